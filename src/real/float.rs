@@ -1,0 +1,180 @@
+//! [`Real`] for the hardware floats `f32` and `f64`.
+
+use super::Real;
+
+macro_rules! impl_real_for_float {
+    ($t:ident, $bits:expr) => {
+        impl Real for $t {
+            fn type_name() -> String {
+                stringify!($t).to_string()
+            }
+            #[inline]
+            fn precision() -> u32 {
+                $bits
+            }
+            #[inline]
+            fn from_i64(n: i64) -> Self {
+                n as $t
+            }
+            #[inline]
+            fn from_ratio(num: i64, den: i64) -> Self {
+                // Correctly rounded when both integers are exact in the type,
+                // which is the case for every constant the crate uses.
+                (num as $t) / (den as $t)
+            }
+            #[inline]
+            fn from_f64(x: f64) -> Self {
+                x as $t
+            }
+            #[inline]
+            fn to_f64(&self) -> f64 {
+                *self as f64
+            }
+            fn parse_decimal(s: &str) -> Option<Self> {
+                s.trim().parse::<$t>().ok()
+            }
+            fn to_roundtrip_string(&self) -> String {
+                // `{:e}` without precision prints the shortest digits that
+                // read back to the same value.
+                format!("{:e}", self)
+            }
+            #[inline]
+            fn zero() -> Self {
+                0.0
+            }
+            #[inline]
+            fn one() -> Self {
+                1.0
+            }
+            #[inline]
+            fn pi() -> Self {
+                core::$t::consts::PI
+            }
+            #[inline]
+            fn exp2i(e: i32) -> Self {
+                (2.0 as $t).powi(e)
+            }
+            #[inline]
+            fn unit_roundoff() -> Self {
+                $t::EPSILON / 2.0
+            }
+            #[inline]
+            fn max_value() -> Self {
+                $t::MAX
+            }
+            #[inline]
+            fn is_finite(&self) -> bool {
+                $t::is_finite(*self)
+            }
+            #[inline]
+            fn is_nan(&self) -> bool {
+                $t::is_nan(*self)
+            }
+            #[inline]
+            fn is_sign_negative(&self) -> bool {
+                $t::is_sign_negative(*self)
+            }
+            #[inline]
+            fn abs(&self) -> Self {
+                $t::abs(*self)
+            }
+            #[inline]
+            fn sqrt(&self) -> Self {
+                $t::sqrt(*self)
+            }
+            #[inline]
+            fn cbrt(&self) -> Self {
+                $t::cbrt(*self)
+            }
+            #[inline]
+            fn hypot(&self, other: &Self) -> Self {
+                $t::hypot(*self, *other)
+            }
+            #[inline]
+            fn sin(&self) -> Self {
+                $t::sin(*self)
+            }
+            #[inline]
+            fn cos(&self) -> Self {
+                $t::cos(*self)
+            }
+            #[inline]
+            fn sin_cos(&self) -> (Self, Self) {
+                $t::sin_cos(*self)
+            }
+            #[inline]
+            fn tan(&self) -> Self {
+                $t::tan(*self)
+            }
+            #[inline]
+            fn asin(&self) -> Self {
+                $t::asin(*self)
+            }
+            #[inline]
+            fn acos(&self) -> Self {
+                $t::acos(*self)
+            }
+            #[inline]
+            fn atan(&self) -> Self {
+                $t::atan(*self)
+            }
+            #[inline]
+            fn atan2(&self, x: &Self) -> Self {
+                $t::atan2(*self, *x)
+            }
+            #[inline]
+            fn exp(&self) -> Self {
+                $t::exp(*self)
+            }
+            #[inline]
+            fn exp_m1(&self) -> Self {
+                $t::exp_m1(*self)
+            }
+            #[inline]
+            fn ln(&self) -> Self {
+                $t::ln(*self)
+            }
+            #[inline]
+            fn ln_1p(&self) -> Self {
+                $t::ln_1p(*self)
+            }
+            #[inline]
+            fn powf(&self, e: &Self) -> Self {
+                $t::powf(*self, *e)
+            }
+            #[inline]
+            fn powi(&self, n: i32) -> Self {
+                $t::powi(*self, n)
+            }
+            #[inline]
+            fn floor(&self) -> Self {
+                $t::floor(*self)
+            }
+            #[inline]
+            fn copysign(&self, sign: &Self) -> Self {
+                $t::copysign(*self, *sign)
+            }
+            #[inline]
+            fn mul_add(&self, a: &Self, b: &Self) -> Self {
+                // Plain multiply-add: `f64::mul_add` is a slow libm call on
+                // targets without FMA, which would tax every sample.
+                *self * *a + *b
+            }
+            #[inline]
+            fn min(&self, other: &Self) -> Self {
+                $t::min(*self, *other)
+            }
+            #[inline]
+            fn max(&self, other: &Self) -> Self {
+                $t::max(*self, *other)
+            }
+            #[inline]
+            fn square(&self) -> Self {
+                *self * *self
+            }
+        }
+    };
+}
+
+impl_real_for_float!(f32, 24);
+impl_real_for_float!(f64, 53);
