@@ -2,7 +2,7 @@
 //!
 //! Area-preserving parametrizations ("warps") of 2-manifolds: maps ψ from the
 //! unit square onto a shape whose Jacobian is constant, so that uniform,
-//! stratified or quasi-Monte Carlo points on [0,1]² become uniform (or
+//! stratified or quasi-Monte Carlo points on [0, 1]² become uniform (or
 //! weighted) samples on the shape.
 //!
 //! The crate follows Arvo's five-step recipe ([`recipe`]), generic over the

@@ -1,1 +1,51 @@
-fn main() {}
+//! `areawarp`: the command-line program.
+//!
+//! - `areawarp eval [--precision f32|f64|mpfr:BITS] [--inverse] [FILE]`: a
+//!   line-oriented evaluator of the warps, for scripts and cross-checks.
+//! - `areawarp report [--out DIR] [--quick]`: runs the precision, Jacobian and
+//!   speed measurements over every warp and writes a Markdown report.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "areawarp", version, about = "Area-preserving parametrizations: evaluate, check, report")]
+struct Args {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Evaluate maps line by line: `MAP PARAMS… u v` → `MAP outputs…`.
+    Eval {
+        /// Arithmetic: f32, f64 or mpfr:BITS (BITS one of 64, 113, 128, 192, 256, 512, 1024).
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Each line ends with a point instead of `u v`; print `MAP u v`.
+        #[arg(long)]
+        inverse: bool,
+        /// Input file (standard input when absent).
+        file: Option<PathBuf>,
+    },
+    /// Run the checks and timings over every warp; write report/index.md.
+    Report {
+        /// Output directory.
+        #[arg(long, default_value = "report")]
+        out: PathBuf,
+        /// Fewer timing repetitions (for a quick look).
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match args.command {
+        Command::Eval { precision, inverse, file } => cli::eval::main(&precision, inverse, file.as_deref()),
+        Command::Report { out, quick } => cli::report::main(&out, quick),
+    }
+}

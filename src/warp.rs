@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Coords;
 
-/// An area-preserving parametrization ψ: [0,1]² → M of a shape M, possibly
+/// An area-preserving parametrization ψ: [0, 1]² → M of a shape M, possibly
 /// weighted (Phong lobe, cosine).
 ///
 /// # Density

@@ -222,6 +222,11 @@ impl<T: Real> Real for Dual2<T> {
     }
     fn hypot(&self, other: &Self) -> Self {
         let h = self.re.hypot(&other.re);
+        if h == T::zero() {
+            // Not differentiable at the origin; use the one-sided directional
+            // derivative |(ẋ, ẏ)| (zero for constants, never NaN).
+            return Dual2 { re: h, du: self.du.hypot(&other.du), dv: self.dv.hypot(&other.dv) };
+        }
         let a = self.re.clone() / &h;
         let b = other.re.clone() / &h;
         Dual2 {

@@ -20,7 +20,7 @@ pub trait Recipe<T: Real>: AreaDensity<T> + MarginalConditional<T> + Clone {
     /// A short name for reports.
     fn name(&self) -> String;
     /// How far `p` lies outside M. The default measures the distance from `p`
-    /// to φ(chart(p)) with the chart clamped to [0,1]²; shapes without a
+    /// to φ(chart(p)) with the chart clamped to [0, 1]²; shapes without a
     /// chart report 0.
     fn outside_by(&self, p: &Vec3<T>) -> T {
         match self.chart(p) {

@@ -5,6 +5,24 @@
 //! and the [`VandermondeCubic`] (a cubic fitted to the inverse at four nodes,
 //! optionally polished by Newton steps). Inverters hold no scalar: their
 //! tolerances are [`Tolerance`]s, exact in every precision.
+//!
+//! # Accuracy and conditioning
+//! Where the computed F carries an absolute error of about u·|y| (u the unit
+//! roundoff), no method that evaluates F can place x closer to the exact
+//! inverse than about u·|y| / F'(x). This exceeds u·|x| where F is flat (near
+//! y = 1 for a concave CDF, the condition number y / (x F'(x)) being large).
+//! [`Tolerance::Ulps`] is therefore measured on the scale
+//! max(|x|, |y| / F'(x)) wherever F' is known: pure units of roundoff of x
+//! where the inverse is well conditioned, the rounding floor of the problem
+//! where it is not.
+//!
+//! # Derivatives
+//! [`Newton`], [`Bisection`] and the polished [`VandermondeCubic`] return an x
+//! produced by a Newton update x − (F(x) − y)/F'(x). Evaluated over dual
+//! numbers ([`Dual2`](crate::real::Dual2)) with `y` seeded, such an update
+//! carries dx/dy = 1/F'(x) + O(F(x) − y) whatever the derivative of the
+//! previous iterate, so the composed warp has exact partials even where the
+//! inversion is numerical.
 
 use super::MarginalConditional;
 use crate::real::Real;
@@ -63,46 +81,67 @@ impl<T: Real, D: MarginalConditional<T>> Cdf1<T> for Conditional<'_, D, T> {
 /// The result of an inversion: the abscissa and how it was reached.
 #[derive(Clone, Debug)]
 pub struct Inversion<T> {
-    /// x with F(x) ≈ y, always inside the domain.
+    /// x with F(x) ≈ y, always inside the domain (finite when the domain is).
     pub x: T,
-    /// Iterations spent (0 for closed forms).
+    /// Iterations spent: Newton or bisection updates, each costing one
+    /// evaluation of F and at most one of F' (0 for closed forms).
     pub iterations: u32,
-    /// |F(x) − y| at the returned x (zero when not evaluated, for closed forms).
+    /// |F(x) − y| at the returned x, as computed (NaN if F is NaN there).
     pub residual: T,
-    /// Whether the stopping tolerance was met (closed forms: `true`).
+    /// Whether the stopping tolerance was met (closed forms: `true`; the
+    /// cubic: see [`FittedCubic::invert`]).
     pub converged: bool,
 }
 
-/// A stopping tolerance on the step |Δx|, exact in every precision.
+/// A stopping tolerance on the step |Δx| (or the bracket width), exact in
+/// every precision.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Tolerance {
-    /// |Δx| ≤ k · u · max(|x|, u · (hi − lo)), with u the unit roundoff of the
-    /// scalar type: "converged to k units of roundoff".
+    /// |Δx| ≤ k · u · |x|, with u the unit roundoff of the scalar type:
+    /// "converged to k units of roundoff". Where F is flat the computed F
+    /// is noise on a scale u·|y|/F'(x) wider than that, and the
+    /// safeguarded solvers get there by bisecting the noisy bracket down
+    /// (about log₂ of the condition number extra steps; see the module docs).
+    /// [`Bisection`] measures it as k · u · max(|lo|, |hi|).
     Ulps(u32),
     /// |Δx| ≤ 2^e (absolute).
     Exp2(i32),
 }
 
 impl Tolerance {
-    fn bound<T: Real>(&self, x: &T, width: &T) -> T {
+    /// The bound at `x`; `floor` is the problem scale |y| / F'(x) (or 0).
+    fn bound<T: Real>(&self, x: &T, floor: &T) -> T {
         match *self {
-            Tolerance::Ulps(k) => {
-                let u = T::unit_roundoff();
-                T::from_i64(k as i64) * &u * &x.abs().max(&(u.clone() * width))
-            }
+            Tolerance::Ulps(k) => T::from_i64(k as i64) * &T::unit_roundoff() * &x.abs().max(floor),
             Tolerance::Exp2(e) => T::exp2i(e),
         }
     }
 }
 
+/// |y| / d when the density d is positive and finite, else 0: the width of
+/// the set of x whose F is within a unit roundoff (relative) of y.
+fn noise_scale<T: Real>(y: &T, d: &T) -> T {
+    if *d > T::zero() && d.is_finite() {
+        let s = y.abs() / d;
+        if s.is_finite() {
+            return s;
+        }
+    }
+    T::zero()
+}
+
 /// A method that inverts a [`Cdf1`].
 pub trait Inverter {
-    /// x in the domain with F(x) ≈ y, for `y ∈ [0, 1]`.
+    /// x in the domain with F(x) ≈ y, for `y ∈ [0, 1]`. Any other `y`
+    /// (including NaN) still gives a point of the domain.
     fn invert<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T) -> Inversion<T>;
 }
 
 /// Uses [`Cdf1::closed_form_inverse`] (clamped to the domain); falls back to
-/// [`Newton::default`] when the CDF has no closed form.
+/// [`Newton::default`] when the CDF has no closed form or it returns NaN.
+///
+/// The residual is evaluated (one CDF evaluation), for an honest report;
+/// code that needs only x can call [`Cdf1::closed_form_inverse`] directly.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ClosedForm;
 
@@ -111,10 +150,12 @@ impl Inverter for ClosedForm {
         match cdf.closed_form_inverse(y) {
             Some(x) if !x.is_nan() => {
                 let (lo, hi) = cdf.domain();
+                let x = x.clamp(&lo, &hi);
+                let residual = (cdf.cdf(&x) - y).abs();
                 Inversion {
-                    x: x.clamp(&lo, &hi),
+                    x,
                     iterations: 0,
-                    residual: T::zero(),
+                    residual,
                     converged: true,
                 }
             }
@@ -123,17 +164,28 @@ impl Inverter for ClosedForm {
     }
 }
 
-/// Safeguarded Newton's method: keeps a bracket `[lo, hi]` with
-/// F(lo) ≤ y ≤ F(hi), takes the Newton step when it stays inside the bracket
-/// and the density is positive, and bisects otherwise. Stops when the step is
-/// below [`Newton::tolerance`] or after [`Newton::max_iterations`].
+/// Safeguarded Newton's method (after `rtsafe`): keeps a bracket
+/// `[lo, hi]` with F(lo) ≤ y ≤ F(hi), takes the Newton step when it stays
+/// inside the bracket, the density is positive and the step is at most half
+/// the step before last, and bisects otherwise. It therefore converges at
+/// least about as fast as bisection also where F' vanishes or the computed F
+/// is noisy (flat or steep CDFs), and quadratically near simple roots.
 ///
-/// The returned x always ends with a Newton (not a bisection) update when
-/// one is possible, so that evaluated over dual numbers the derivative of x
-/// is the implicit derivative 1/F'(x).
+/// Stops when the last step, or the bracket, is below
+/// [`Newton::tolerance`], when F(x) = y exactly, when the iterate stops
+/// moving, or after [`Newton::max_iterations`] updates. `y ≤ 0` (or NaN)
+/// starts at `lo` and `y ≥ 1` at `hi`, where F is 0 and 1, so the ends cost
+/// one evaluation. The returned x is always inside the domain.
+///
+/// # Derivatives
+/// If the iteration stopped after a bisection (or at an exact root), one
+/// more Newton update is applied (not counted in [`Inversion::iterations`]),
+/// so that over dual numbers x carries dx/dy = 1/F'(x) (module docs). It is
+/// accepted inside the bracket, or outside it if it moves x by at most 4
+/// units of roundoff (rounding noise), and never outside the domain.
 #[derive(Clone, Copy, Debug)]
 pub struct Newton {
-    /// Stopping tolerance on |Δx|.
+    /// Stopping tolerance on |Δx| (and on the bracket width).
     pub tolerance: Tolerance,
     /// Iteration cap.
     pub max_iterations: u32,
@@ -148,7 +200,8 @@ pub enum Start {
     Midpoint,
     /// The linear interpolant x = lo + y (hi − lo).
     Linear,
-    /// The Vandermonde cubic fitted to the inverse.
+    /// The Vandermonde cubic fitted to the inverse, with the bracket between
+    /// the two fitting nodes around y (four extra CDF evaluations per call).
     Cubic,
 }
 
@@ -164,47 +217,141 @@ impl Default for Newton {
     }
 }
 
+/// Narrows `[lo, hi]` to keep the root of `f` bracketed, given f = F(x) − y.
+fn update_bracket<T: Real>(x: &T, f: &T, lo: &mut T, hi: &mut T) {
+    if *f < T::zero() {
+        *lo = x.clone();
+    } else if *f > T::zero() {
+        *hi = x.clone();
+    }
+}
+
+/// The Newton update `x − f/d`, if the density is usable and the result is
+/// finite.
+fn newton_point<T: Real>(x: &T, f: &T, d: &T) -> Option<T> {
+    if !(*d > T::zero() && d.is_finite()) {
+        return None;
+    }
+    let n = x.clone() - &(f.clone() / d);
+    if n.is_finite() { Some(n) } else { None }
+}
+
+/// `lo ≤ x ≤ hi`.
+fn within<T: Real>(x: &T, lo: &T, hi: &T) -> bool {
+    *x >= *lo && *x <= *hi
+}
+
+/// |f| ≤ 4 u |y|: the residual is at the rounding level of y.
+fn at_noise_level<T: Real>(y: &T, f: &T) -> bool {
+    f.abs() <= T::from_i64(4) * &T::unit_roundoff() * &y.abs()
+}
+
+/// If `x` did not come from a Newton update, applies one (so that dual
+/// numbers carry dx/dy = 1/F'(x)) and refreshes `f`.
+///
+/// The update is accepted inside the bracket `[lo, hi]`, or if it moves x by
+/// at most 4 units of roundoff: once the bracket is at the rounding level
+/// the computed F is noise, and the Newton point may land a few units
+/// outside. When the solver `converged` (x is then next to the root, so
+/// F'(x) is trustworthy), the units of roundoff are those of the problem,
+/// max(|x|, |y|/F'(x)) (see the module docs). Never outside the domain
+/// `[dlo, dhi]`.
+fn finish_with_newton<T: Real, C: Cdf1<T> + ?Sized>(
+    cdf: &C,
+    y: &T,
+    x: &mut T,
+    f: &mut T,
+    (lo, hi): (&T, &T),
+    (dlo, dhi): (&T, &T),
+    converged: bool,
+) {
+    if f.is_nan() {
+        return;
+    }
+    let d = cdf.pdf(x);
+    let Some(n) = newton_point(x, f, &d) else {
+        return;
+    };
+    let floor = if converged {
+        noise_scale(y, &d)
+    } else {
+        T::zero()
+    };
+    let close = (n.clone() - &*x).abs() <= Tolerance::Ulps(4).bound(x, &floor);
+    if within(&n, dlo, dhi) && (within(&n, lo, hi) || close) {
+        // At an exact root the value is unchanged (only derivatives move):
+        // no re-evaluation needed.
+        if *f != T::zero() {
+            *f = cdf.cdf(&n) - y;
+        }
+        *x = n;
+    }
+}
+
 impl Newton {
-    /// Runs the safeguarded iteration from `x0`.
+    /// Runs the safeguarded iteration from `x0` (clamped to the domain),
+    /// with the whole domain as the initial bracket.
     pub fn solve_from<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T, x0: T) -> Inversion<T> {
-        let (mut lo, mut hi) = cdf.domain();
-        let width = hi.clone() - &lo;
+        let (lo, hi) = cdf.domain();
+        self.solve_in(cdf, y, x0, lo, hi)
+    }
+
+    /// Runs the safeguarded iteration from `x0` inside the bracket
+    /// `[lo, hi]`, which must satisfy F(lo) ≤ y ≤ F(hi) and lie in the domain.
+    pub fn solve_in<T: Real, C: Cdf1<T> + ?Sized>(
+        &self,
+        cdf: &C,
+        y: &T,
+        x0: T,
+        mut lo: T,
+        mut hi: T,
+    ) -> Inversion<T> {
+        let (dlo, dhi) = cdf.domain();
+        let two = T::from_i64(2);
         let mut x = x0.clamp(&lo, &hi);
+        let mut f = cdf.cdf(&x) - y;
+        update_bracket(&x, &f, &mut lo, &mut hi);
         let mut iterations = 0;
         let mut converged = false;
-        while iterations < self.max_iterations {
-            iterations += 1;
-            let f = cdf.cdf(&x) - y;
+        let mut newton_last = false;
+        // The last two step lengths (rtsafe's dx and dxold).
+        let mut step_last = hi.clone() - &lo;
+        let mut step_before = step_last.clone();
+        loop {
             if f.is_nan() {
                 break;
             }
-            if f < T::zero() {
-                lo = x.clone();
-            } else if f > T::zero() {
-                hi = x.clone();
-            }
-            let d = cdf.pdf(&x);
-            let newton = if d > T::zero() && d.is_finite() {
-                Some(x.clone() - &(f.clone() / &d))
-            } else {
-                None
-            };
-            let next = match newton {
-                Some(n) if n >= lo && n <= hi => n,
-                _ => (lo.clone() + &hi) / T::from_i64(2),
-            };
-            let step = (next.clone() - &x).abs();
-            x = next;
-            if step <= self.tolerance.bound(&x, &width) {
+            if f == T::zero() {
                 converged = true;
                 break;
             }
+            if iterations >= self.max_iterations {
+                break;
+            }
+            iterations += 1;
+            let d = cdf.pdf(&x);
+            let newton = newton_point(&x, &f, &d)
+                .filter(|n| within(n, &lo, &hi) && (n.clone() - &x).abs() * &two <= step_before);
+            newton_last = newton.is_some();
+            let next = newton.unwrap_or_else(|| (lo.clone() + &hi) / &two);
+            let step = (next.clone() - &x).abs();
+            step_before = core::mem::replace(&mut step_last, step.clone());
+            x = next;
+            f = cdf.cdf(&x) - y;
+            update_bracket(&x, &f, &mut lo, &mut hi);
+            let tol = self.tolerance.bound(&x, &T::zero());
+            if step <= tol || hi.clone() - &lo <= tol || step == T::zero() {
+                converged = !f.is_nan();
+                break;
+            }
         }
-        let residual = (cdf.cdf(&x) - y).abs();
+        if !newton_last {
+            finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), converged);
+        }
         Inversion {
             x,
             iterations,
-            residual,
+            residual: f.abs(),
             converged,
         }
     }
@@ -213,16 +360,40 @@ impl Newton {
 impl Inverter for Newton {
     fn invert<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T) -> Inversion<T> {
         let (lo, hi) = cdf.domain();
-        let x0 = match self.start.unwrap_or(Start::Midpoint) {
-            Start::Midpoint => (lo.clone() + &hi) / T::from_i64(2),
-            Start::Linear => lo.clone() + &(y.clone() * &(hi.clone() - &lo)),
-            Start::Cubic => FittedCubic::fit(cdf).eval(y).clamp(&lo, &hi),
-        };
-        self.solve_from(cdf, y, x0)
+        if y.is_nan() || *y <= T::zero() {
+            return self.solve_in(cdf, y, lo.clone(), lo, hi);
+        }
+        if *y >= T::one() {
+            return self.solve_in(cdf, y, hi.clone(), lo, hi);
+        }
+        match self.start.unwrap_or(Start::Midpoint) {
+            Start::Midpoint => {
+                let x0 = (lo.clone() + &hi) / T::from_i64(2);
+                self.solve_in(cdf, y, x0, lo, hi)
+            }
+            Start::Linear => {
+                let x0 = lo.clone() + &(y.clone() * &(hi.clone() - &lo));
+                self.solve_in(cdf, y, x0, lo, hi)
+            }
+            Start::Cubic => {
+                let fit = FittedCubic::fit(cdf);
+                let (blo, bhi) = fit.bracket(y);
+                let x0 = fit.eval(y);
+                self.solve_in(cdf, y, x0, blo, bhi)
+            }
+        }
     }
 }
 
-/// Bisection on the domain until the bracket is below the tolerance.
+/// Bisection until the bracket is below the tolerance.
+///
+/// `y ≤ 0` (or NaN) returns `lo` and `y ≥ 1` returns `hi`. Otherwise the root
+/// is kept in `[lo, hi]` until `hi − lo` is below [`Bisection::tolerance`]
+/// (k · u · max(|lo|, |hi|) for [`Tolerance::Ulps`]) or the two ends are
+/// adjacent floats. x is then the midpoint, moved by one Newton update (not
+/// counted in [`Inversion::iterations`]) if that stays inside the bracket or
+/// within 4 units of roundoff of x, so that x keeps the bracket's accuracy
+/// and, over dual numbers, carries dx/dy = 1/F'(x).
 #[derive(Clone, Copy, Debug)]
 pub struct Bisection {
     /// Stopping tolerance on the bracket width.
@@ -232,6 +403,8 @@ pub struct Bisection {
 }
 
 impl Default for Bisection {
+    /// Two units of roundoff, at most 4096 halvings (enough for relative
+    /// accuracy down to f64's underflow threshold).
     fn default() -> Self {
         Bisection {
             tolerance: Tolerance::Ulps(2),
@@ -242,47 +415,66 @@ impl Default for Bisection {
 
 impl Inverter for Bisection {
     fn invert<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T) -> Inversion<T> {
-        let (mut lo, mut hi) = cdf.domain();
-        let width = hi.clone() - &lo;
+        let (dlo, dhi) = cdf.domain();
+        let (mut lo, mut hi) = (dlo.clone(), dhi.clone());
         let two = T::from_i64(2);
+        let zero = T::zero();
         let mut iterations = 0;
         let mut converged = false;
-        while iterations < self.max_iterations {
-            iterations += 1;
+        if y.is_nan() || *y <= T::zero() {
+            hi = lo.clone();
+        } else if *y >= T::one() {
+            lo = hi.clone();
+        }
+        loop {
+            let size = lo.abs().max(&hi.abs());
+            if hi.clone() - &lo <= self.tolerance.bound(&size, &zero) {
+                converged = true;
+                break;
+            }
             let mid = (lo.clone() + &hi) / &two;
             if mid <= lo || mid >= hi {
                 converged = true;
                 break;
             }
-            if cdf.cdf(&mid) < *y {
+            if iterations >= self.max_iterations {
+                break;
+            }
+            iterations += 1;
+            let f = cdf.cdf(&mid) - y;
+            if f.is_nan() {
+                break;
+            }
+            if f < T::zero() {
                 lo = mid;
             } else {
                 hi = mid;
             }
-            if hi.clone() - &lo <= self.tolerance.bound(&lo, &width) {
-                converged = true;
-                break;
-            }
         }
-        let x = (lo + &hi) / &two;
-        let residual = (cdf.cdf(&x) - y).abs();
+        let mut x = (lo.clone() + &hi) / &two;
+        let mut f = cdf.cdf(&x) - y;
+        finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), converged);
         Inversion {
             x,
             iterations,
-            residual,
+            residual: f.abs(),
             converged,
         }
     }
 }
 
-/// A cubic fitted to the inverse CDF at four nodes, optionally polished by
-/// `polish` unsafeguarded-but-clamped Newton steps.
+/// A cubic fitted to the inverse CDF at four nodes, then `polish` safeguarded
+/// Newton steps.
 ///
 /// The nodes are x_i = lo + i (hi − lo)/3, i = 0…3, with y_i = F(x_i); the
 /// cubic p interpolates (y_i, x_i) (Newton's divided differences, which solve
-/// the Vandermonde system stably). Fitting costs four CDF evaluations: to
-/// reuse a fit, call [`FittedCubic::fit`] once and [`FittedCubic::invert`] per
-/// sample. As an [`Inverter`] it refits on every call.
+/// the Vandermonde system stably). The nodes also bracket the root: y lies
+/// between y_i and y_{i+1}, so each polish step is a Newton step kept inside
+/// that (shrinking) bracket, or a bisection when Newton would leave it, and
+/// never increases the residual (see [`FittedCubic::invert`]).
+/// Fitting costs four CDF evaluations: to reuse a fit, call
+/// [`FittedCubic::fit`] once and [`FittedCubic::invert`] per sample. As an
+/// [`Inverter`] it refits on every call.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct VandermondeCubic {
     /// Newton steps after the cubic guess.
@@ -298,10 +490,14 @@ impl Inverter for VandermondeCubic {
 /// The cubic of [`VandermondeCubic`], fitted once.
 #[derive(Clone, Debug)]
 pub struct FittedCubic<T> {
+    /// The fitting nodes x_i.
+    xs: [T; 4],
+    /// F at the nodes (0 and 1 at the ends).
+    fs: [T; 4],
+    /// Interpolation nodes of the cubic (equal to `fs` unless degenerate).
     ys: [T; 4],
+    /// Divided-difference coefficients.
     coef: [T; 4],
-    lo: T,
-    hi: T,
 }
 
 impl<T: Real> FittedCubic<T> {
@@ -313,17 +509,19 @@ impl<T: Real> FittedCubic<T> {
     pub fn fit<C: Cdf1<T> + ?Sized>(cdf: &C) -> Self {
         let (lo, hi) = cdf.domain();
         let third = (hi.clone() - &lo) / T::from_i64(3);
-        let xs: [T; 4] =
+        let mut xs: [T; 4] =
             core::array::from_fn(|i| lo.clone() + &(third.clone() * &T::from_i64(i as i64)));
-        let mut ys: [T; 4] = core::array::from_fn(|i| cdf.cdf(&xs[i]));
-        ys[0] = T::zero();
-        ys[3] = T::one();
+        xs[3] = hi.clone();
+        let mut fs: [T; 4] = core::array::from_fn(|i| cdf.cdf(&xs[i]));
+        fs[0] = T::zero();
+        fs[3] = T::one();
+        let mut ys = fs.clone();
         let mut coef = xs.clone();
         let mut ok = true;
         for j in 1..4 {
             for i in (j..4).rev() {
                 let dy = ys[i].clone() - &ys[i - j];
-                if !(dy > T::zero()) {
+                if dy.is_nan() || dy <= T::zero() {
                     ok = false;
                 }
                 coef[i] = (coef[i].clone() - &coef[i - 1]) / &dy;
@@ -333,7 +531,7 @@ impl<T: Real> FittedCubic<T> {
             coef = [lo.clone(), hi.clone() - &lo, T::zero(), T::zero()];
             ys = [T::zero(), T::one(), T::one(), T::one()];
         }
-        FittedCubic { ys, coef, lo, hi }
+        FittedCubic { xs, fs, ys, coef }
     }
 
     /// p(y), unclamped.
@@ -345,22 +543,78 @@ impl<T: Real> FittedCubic<T> {
         acc
     }
 
-    /// p(y) clamped to the domain, then `polish` Newton steps (each clamped).
-    pub fn invert<C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T, polish: u32) -> Inversion<T> {
-        let mut x = self.eval(y).clamp(&self.lo, &self.hi);
-        for _ in 0..polish {
-            let f = cdf.cdf(&x) - y;
-            let d = cdf.pdf(&x);
-            if d > T::zero() && d.is_finite() {
-                x = (x - &(f / &d)).clamp(&self.lo, &self.hi);
+    /// The node interval `[x_i, x_{i+1}]` with F(x_i) ≤ y ≤ F(x_{i+1})
+    /// (for a non-decreasing F and y ∈ [0, 1]).
+    pub fn bracket(&self, y: &T) -> (T, T) {
+        let mut i = 0;
+        for k in 1..3 {
+            if self.fs[k] <= *y {
+                i = k;
             }
         }
-        let residual = (cdf.cdf(&x) - y).abs();
+        (self.xs[i].clone(), self.xs[i + 1].clone())
+    }
+
+    /// p(y) clamped to the node bracket around y ([`FittedCubic::bracket`]),
+    /// then up to `polish` safeguarded Newton steps.
+    ///
+    /// Each step tries the Newton update if it falls strictly inside the
+    /// bracket (narrowed by every evaluation), else the bracket's midpoint,
+    /// and keeps the trial only if it does not increase |F(x) − y|: a polish
+    /// step never makes the residual worse, even from a poor cubic guess on a
+    /// steep or flat CDF (where it may then stall: prefer [`Newton`] with
+    /// [`Start::Cubic`] there). Stops early at an exact root or where F is
+    /// NaN. With `polish > 0`, an x that did not come from a Newton update
+    /// gets one more if that moves it by at most 4 units of roundoff (as in
+    /// [`Newton`]; the residual may then change at the rounding level,
+    /// ≤ 4u|y|), so that dual numbers carry dx/dy = 1/F'(x); the bare cubic
+    /// (`polish = 0`) carries p'(y), an approximation.
+    ///
+    /// [`Inversion::iterations`] counts the polish steps taken (each costing
+    /// one evaluation of F and F'); [`Inversion::converged`] tells whether
+    /// the residual reached the rounding level, |F(x) − y| ≤ 4u|y| (always
+    /// `false` without polish: the bare cubic tests nothing).
+    pub fn invert<C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T, polish: u32) -> Inversion<T> {
+        let (dlo, dhi) = cdf.domain();
+        let (mut lo, mut hi) = self.bracket(y);
+        let two = T::from_i64(2);
+        let mut x = self.eval(y).clamp(&lo, &hi);
+        let mut f = cdf.cdf(&x) - y;
+        let mut iterations = 0;
+        let mut from_newton = false;
+        while iterations < polish && !f.is_nan() && f != T::zero() {
+            update_bracket(&x, &f, &mut lo, &mut hi);
+            iterations += 1;
+            let d = cdf.pdf(&x);
+            let newton = newton_point(&x, &f, &d).filter(|n| *n > lo && *n < hi);
+            let is_newton = newton.is_some();
+            let trial = newton.unwrap_or_else(|| (lo.clone() + &hi) / &two);
+            let ft = cdf.cdf(&trial) - y;
+            if ft.is_nan() {
+                break;
+            }
+            if ft.abs() <= f.abs() {
+                x = trial;
+                f = ft;
+                from_newton = is_newton;
+            } else {
+                // Rejected, but it still narrows the bracket (and a rejected
+                // Newton point, now a bracket end, is not tried again).
+                update_bracket(&trial, &ft, &mut lo, &mut hi);
+            }
+        }
+        if polish > 0 && !from_newton {
+            // Only a move at the rounding level: the polish bracket may be
+            // wide, and a Newton point inside it need not be better than x.
+            let here = x.clone();
+            finish_with_newton(cdf, y, &mut x, &mut f, (&here, &here), (&dlo, &dhi), false);
+        }
+        let converged = polish > 0 && at_noise_level(y, &f);
         Inversion {
             x,
-            iterations: polish,
-            residual,
-            converged: false,
+            iterations,
+            residual: f.abs(),
+            converged,
         }
     }
 }

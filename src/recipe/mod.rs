@@ -2,7 +2,7 @@
 //!
 //! | step | what | trait / type |
 //! |---|---|---|
-//! | 1 | parametrization φ(s,t): [0,1]² → M | [`Parametrization`] |
+//! | 1 | parametrization φ(s,t): [0, 1]² → M | [`Parametrization`] |
 //! | 2 | area density σ(s,t) = ‖φ_s × φ_t‖ · w(φ) | [`AreaDensity`] |
 //! | 3 | marginal F(s), conditional G_s(t) | [`MarginalConditional`] |
 //! | 4 | inversion of F and G_s | [`Cdf1`], [`Inverter`]: [`ClosedForm`], [`Newton`], [`Bisection`], [`VandermondeCubic`] |

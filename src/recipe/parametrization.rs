@@ -3,7 +3,7 @@
 use crate::real::{Dual2, Embed, Real};
 use crate::vector::Vec3;
 
-/// Step 1: a smooth map φ(s, t) from [0,1]² onto the manifold M (bijective
+/// Step 1: a smooth map φ(s, t) from [0, 1]² onto the manifold M (bijective
 /// almost everywhere). Planar shapes return `z = 0`.
 ///
 /// `phi` is generic over the evaluation scalar `S`, into which the shape's

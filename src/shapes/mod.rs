@@ -1,1 +1,14 @@
 //! The analytic warps.
+mod concentric_disk;
+mod disk;
+mod hemisphere;
+mod phong;
+mod planar_triangle;
+mod sphere;
+mod turns;
+pub use concentric_disk::ConcentricDisk;
+pub use disk::{PolarDisk, PolarDiskRecipe};
+pub use hemisphere::{Hemisphere, HemisphereRecipe};
+pub use phong::{PhongLobe, PhongRecipe};
+pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe};
+pub use sphere::{Sphere, SphereRecipe};

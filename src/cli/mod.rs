@@ -1,0 +1,4 @@
+//! The subcommands of the `areawarp` program.
+
+pub mod eval;
+pub mod report;

@@ -1,0 +1,158 @@
+//! `areawarp report`: the precision, Jacobian and speed measurements over
+//! every implemented warp, written as Markdown and CSV to `report/`.
+
+use areawarp::harness::extremes::{extremes_grid, random_points};
+use areawarp::harness::{jacobian, precision, roundtrip};
+use areawarp::real::{Mpfr256, Real};
+use areawarp::shapes::{ConcentricDisk, Hemisphere, PhongLobe, PlanarTriangle, PolarDisk, Sphere};
+use areawarp::{Vec3, Warp, WarpError, WarpFamily};
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// One warp's measured row.
+struct Row {
+    name: String,
+    jacobian_max_dev: f64,
+    f64_max_ulps: f64,
+    f64_median_ulps: f64,
+    f64_bad: usize,
+    f32_max_ulps: f64,
+    f32_median_ulps: f64,
+    f32_bad: usize,
+    roundtrip_f64: f64,
+    ns_f32: f64,
+    ns_f64: f64,
+    ns_mpfr: f64,
+}
+
+/// Entry point of `areawarp report`.
+pub fn main(out: &Path, quick: bool) -> ExitCode {
+    match run(out, quick) {
+        Ok(ok) => {
+            if ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
+    std::fs::create_dir_all(out)?;
+    let mut points = extremes_grid();
+    points.extend(random_points(if quick { 200 } else { 2000 }, 1));
+    let reps = if quick { 3 } else { 7 };
+    let v = |x: f64, y: f64, z: f64| Vec3::<f64>::from_f64(x, y, z);
+    let mut rows = Vec::new();
+    eprintln!("areawarp report: measuring {} points per warp", points.len());
+    rows.push(study(&PlanarTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0))?, "planar-triangle (unit)", &points, reps)?);
+    rows.push(study(&PlanarTriangle::new(v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0))?, "planar-triangle (3-D)", &points, reps)?);
+    rows.push(study(&PolarDisk::<f64>::new(), "disk (polar)", &points, reps)?);
+    rows.push(study(&ConcentricDisk::<f64>::new(), "concentric-disk", &points, reps)?);
+    rows.push(study(&Hemisphere::<f64>::new(), "hemisphere", &points, reps)?);
+    for k in [0.0, 1.0, 1000.0, 1e6] {
+        rows.push(study(&PhongLobe::new(k)?, &format!("phong k={k}"), &points, reps)?);
+    }
+    rows.push(study(&Sphere::<f64>::new(), "sphere (Archimedes)", &points, reps)?);
+
+    let md = render(&rows, points.len());
+    std::fs::write(out.join("index.md"), &md)?;
+    std::fs::write(out.join("warps.csv"), render_csv(&rows))?;
+    println!("{md}");
+    eprintln!("areawarp report: wrote {}", out.join("index.md").display());
+    Ok(rows.iter().all(|r| r.jacobian_max_dev <= 1e-60 && r.f64_bad == 0 && r.f32_bad == 0))
+}
+
+fn study<W: WarpFamily<f64>>(w: &W, name: &str, points: &[(f64, f64)], reps: usize) -> Result<Row, WarpError> {
+    eprintln!("  {name}");
+    let jac = jacobian::check_jacobian(w, &extremes_grid())?;
+    let p64 = precision::check_precision::<f64, W>(w, points)?;
+    let p32 = precision::check_precision::<f32, W>(w, points)?;
+    let rt = roundtrip::check_roundtrip::<f64, W>(w, &interior(points))?;
+    Ok(Row {
+        name: name.to_string(),
+        jacobian_max_dev: jac.max_rel_deviation,
+        f64_max_ulps: p64.max_ulps,
+        f64_median_ulps: p64.median_ulps,
+        f64_bad: p64.non_finite + p64.outside,
+        f32_max_ulps: p32.max_ulps,
+        f32_median_ulps: p32.median_ulps,
+        f32_bad: p32.non_finite + p32.outside,
+        roundtrip_f64: rt.max_error,
+        ns_f32: time_map(&w.at::<f32>()?, 20_000, reps),
+        ns_f64: time_map(&w.at::<f64>()?, 20_000, reps),
+        ns_mpfr: time_map(&w.at::<Mpfr256>()?, 500, reps),
+    })
+}
+
+/// Points away from the edges u, v ∈ {0, 1}, where inverses are singular for some warps.
+fn interior(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points.iter().copied().filter(|&(u, v)| u > 1e-9 && u < 1.0 - 1e-9 && v > 1e-9 && v < 1.0 - 1e-9).collect()
+}
+
+/// Median over `reps` runs of the time per sample of `n` map evaluations.
+fn time_map<T: Real, W: Warp<T>>(w: &W, n: usize, reps: usize) -> f64 {
+    let inputs: Vec<(T, T)> = random_points(n, 7).into_iter().map(|(u, v)| (T::from_f64(u), T::from_f64(v))).collect();
+    let mut times: Vec<f64> = (0..reps)
+        .map(|_| {
+            let start = Instant::now();
+            for (u, v) in &inputs {
+                black_box(w.map(black_box(u), black_box(v)));
+            }
+            start.elapsed().as_secs_f64() * 1e9 / n as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn render(rows: &[Row], npoints: usize) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# areawarp report\n");
+    let _ = writeln!(
+        s,
+        "Every warp checked over the extremes grid (u, v ∈ {{0, 2⁻⁶⁰, 1e-12, 1e-6, ½, 1−1e-6, 1−1e-12, 1}}²) \
+         plus random points ({npoints} points in all). Errors are max-norm distances to the 256-bit map at the \
+         same inputs, divided by the shape's extent, in units of the type's unit roundoff (2⁻²⁴ for f32, \
+         2⁻⁵³ for f64). The Jacobian column is max |ψ_u × ψ_v| · pdf(ψ) − 1 over the extremes grid, \
+         computed at 256 bits with dual numbers. \"bad\" counts NaN/Inf outputs and points off the shape.\n"
+    );
+    let _ = writeln!(s, "## Precision and Jacobian\n");
+    let _ = writeln!(s, "| warp | Jacobian dev. (256 bits) | f64 max ulps | f64 median | f64 bad | f32 max ulps | f32 median | f32 bad | f64 round trip |");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {:.1e} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} | {:.1e} |",
+            r.name, r.jacobian_max_dev, r.f64_max_ulps, r.f64_median_ulps, r.f64_bad, r.f32_max_ulps, r.f32_median_ulps, r.f32_bad, r.roundtrip_f64
+        );
+    }
+    let _ = writeln!(s, "\n## Speed (ns per sample, median of repeated runs, this machine)\n");
+    let _ = writeln!(s, "| warp | f32 | f64 | mpfr:256 | mpfr / f64 |");
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for r in rows {
+        let _ = writeln!(s, "| {} | {:.1} | {:.1} | {:.0} | {:.0}× |", r.name, r.ns_f32, r.ns_f64, r.ns_mpfr, r.ns_mpfr / r.ns_f64);
+    }
+    let _ = writeln!(s, "\nTimings come from one run on a shared machine: compare ratios within this table, not across runs.");
+    s
+}
+
+fn render_csv(rows: &[Row]) -> String {
+    let mut s = String::from("warp,jacobian_dev,f64_max_ulps,f64_median_ulps,f64_bad,f32_max_ulps,f32_median_ulps,f32_bad,roundtrip_f64,ns_f32,ns_f64,ns_mpfr256\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{:e},{},{},{},{},{},{},{:e},{},{},{}",
+            r.name, r.jacobian_max_dev, r.f64_max_ulps, r.f64_median_ulps, r.f64_bad, r.f32_max_ulps, r.f32_median_ulps, r.f32_bad, r.roundtrip_f64, r.ns_f32, r.ns_f64, r.ns_mpfr
+        );
+    }
+    s
+}

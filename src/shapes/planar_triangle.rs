@@ -1,0 +1,844 @@
+//! Uniform sampling of a planar triangle in space: Arvo (2001), §1.3.1,
+//! eq. (1.20). Derivation and numerical choices: `docs/planar-triangle.md`.
+
+use crate::error::WarpError;
+use crate::real::{Embed, Real};
+use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
+use crate::vector::Vec3;
+use crate::warp::{Warp, WarpFamily};
+
+/// `x` clamped to `[0, 1]` (NaN becomes 0).
+fn clamp01<T: Real>(x: &T) -> T {
+    x.clamp(&T::zero(), &T::one())
+}
+
+/// Euclidean length computed as `m·sqrt(Σ (x_i/m)²)` with `m` the largest
+/// absolute coordinate: free of overflow and underflow, and, unlike
+/// `hypot`-based norms, with finite (zero) derivatives for constant dual
+/// numbers whose coordinates are partly zero.
+fn scaled_norm<T: Real>(v: &Vec3<T>) -> T {
+    let m = v.max_abs();
+    if !m.is_finite() || m == T::zero() {
+        // Zero vector, or non-finite input (propagated as is).
+        return m;
+    }
+    let x = v.x.clone() / &m;
+    let y = v.y.clone() / &m;
+    let z = v.z.clone() / &m;
+    (x.square() + &y.square() + &z.square()).sqrt() * &m
+}
+
+/// Embeds a vector of `T` constants into the evaluation scalar `S`.
+fn embed3<T: Real, S: Embed<T>>(v: &Vec3<T>) -> Vec3<S> {
+    Vec3::new(S::embed(&v.x), S::embed(&v.y), S::embed(&v.z))
+}
+
+/// Distance from `p` to the segment `p0 + τ·dir`, `τ ∈ [0, len]` (`dir` a unit vector).
+fn segment_distance<T: Real>(p: &Vec3<T>, p0: &Vec3<T>, dir: &Vec3<T>, len: &T) -> T {
+    let d = p.sub(p0);
+    let tau = d.dot(dir).clamp(&T::zero(), len);
+    scaled_norm(&d.sub(&dir.scale(&tau)))
+}
+
+/// `v + (w1·e1 − w2·e2)`: the small terms are combined first, so that the
+/// only rounding at the scale of the coordinates is the final addition.
+fn anchored<T: Real>(v: &Vec3<T>, w1: &T, e1: &Vec3<T>, w2: &T, e2: &Vec3<T>) -> Vec3<T> {
+    v.add(&e1.scale(w1).sub(&e2.scale(w2)))
+}
+
+/// The uniform area-preserving map of a triangle `ABC` in space (Arvo 2001,
+/// eq. 1.20):
+///
+/// ψ(u, v) = (1 − √u)·A + √u(1 − v)·B + √u·v·C.
+///
+/// `u` sweeps from the vertex `A` (u = 0) to the opposite edge `BC` (u = 1);
+/// `v` runs along the segments parallel to `BC`, from the side `AB` (v = 0)
+/// to the side `AC` (v = 1).
+///
+/// # Density
+/// Uniform in area: `pdf(p) = 1 / area` for every `p` on the triangle, and
+/// `|ψ_u × ψ_v| = area` on the whole open square (`measure() = area`).
+///
+/// # Evaluation
+/// With barycentric weights λ_A = 1 − s, λ_B = s(1 − t), λ_C = s·t
+/// (`s = √u`, `t = v`), the point is computed from the vertex of largest
+/// weight V_k as `V_k + (λ_i·(V_i − V_k) + λ_j·(V_j − V_k))`, the edge
+/// vectors being precomputed. A weight that is zero in exact arithmetic is
+/// exactly zero in floating point (at u = 0, v ∈ {0, 1} and u = 1), so the
+/// three vertices are reproduced exactly and every side of the square maps
+/// onto the corresponding edge (a two-point interpolation); the absolute
+/// error is at most ½ ulp of the result plus a few units of roundoff times
+/// `(1 − λ_k)·(longest edge)`. See `docs/planar-triangle.md`.
+///
+/// # Non-degeneracy
+/// [`PlanarTriangle::new`] rejects triangles whose largest interior angle θ
+/// has `sin θ ≤ 256·u` (u = [`Real::unit_roundoff`]): this is
+/// `2·area ≤ 256·u·ℓ₁ℓ₂` with ℓ₁, ℓ₂ the two shortest edges, a criterion
+/// independent of scale, position and orientation. The computed sine carries
+/// an absolute error below about 8u, so every accepted triangle has its
+/// normal, area and density determined to better than 1/32 relative; below
+/// the threshold the data do not fix the triangle's orientation at this
+/// precision.
+///
+/// # Example
+/// ```
+/// use areawarp::shapes::PlanarTriangle;
+/// use areawarp::{Vec3, Warp};
+///
+/// let tri = PlanarTriangle::<f64>::new(
+///     Vec3::new(0.0, 0.0, 0.0),
+///     Vec3::new(2.0, 0.0, 0.0),
+///     Vec3::new(0.0, 1.0, 0.0),
+/// )
+/// .unwrap();
+/// assert_eq!(tri.measure(), 1.0);
+/// let p = tri.map(&0.25, &0.5); // √u = 1/2: halfway to BC, middle of the segment
+/// assert!((p.x - 0.5).abs() < 1e-15 && (p.y - 0.25).abs() < 1e-15);
+/// let (u, v) = tri.inverse(&p).unwrap();
+/// assert!((u - 0.25).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
+/// ```
+#[derive(Clone, Debug)]
+pub struct PlanarTriangle<T> {
+    a: Vec3<T>,
+    b: Vec3<T>,
+    c: Vec3<T>,
+    /// B − A.
+    e_ab: Vec3<T>,
+    /// C − B.
+    e_bc: Vec3<T>,
+    /// A − C.
+    e_ca: Vec3<T>,
+    /// Unit edge directions and edge lengths (segment distances).
+    d_ab: Vec3<T>,
+    d_bc: Vec3<T>,
+    d_ca: Vec3<T>,
+    l_ab: T,
+    l_bc: T,
+    l_ca: T,
+    /// Unit normal, oriented as (B − A) × (C − A).
+    normal: Vec3<T>,
+    /// normal / (2·area): barycentric coordinates are `(edge × (p − V))·m`.
+    m: Vec3<T>,
+    area: T,
+    inv_area: T,
+    extent: T,
+    /// Largest `outside_by` that [`Warp::inverse`] accepts.
+    inverse_tolerance: T,
+}
+
+impl<T: Real> PlanarTriangle<T> {
+    /// The triangle with vertices `a`, `b`, `c`.
+    ///
+    /// # Errors
+    /// - [`WarpError::NonFinite`] if a coordinate is NaN or infinite, or an
+    ///   edge vector, the area or a vertex norm overflows.
+    /// - [`WarpError::Degenerate`] for coincident vertices, collinear vertices
+    ///   (largest interior angle with `sin θ ≤ 256·u`, see the type's docs),
+    ///   or an area so small that its reciprocal overflows.
+    pub fn new(a: Vec3<T>, b: Vec3<T>, c: Vec3<T>) -> Result<Self, WarpError> {
+        for (v, what) in [(&a, "vertex A"), (&b, "vertex B"), (&c, "vertex C")] {
+            if !v.is_finite() {
+                return Err(WarpError::NonFinite { what });
+            }
+        }
+        let e_ab = b.sub(&a);
+        let e_bc = c.sub(&b);
+        let e_ca = a.sub(&c);
+        if !(e_ab.is_finite() && e_bc.is_finite() && e_ca.is_finite()) {
+            return Err(WarpError::NonFinite {
+                what: "triangle edge (overflow)",
+            });
+        }
+        let l_ab = scaled_norm(&e_ab);
+        let l_bc = scaled_norm(&e_bc);
+        let l_ca = scaled_norm(&e_ca);
+        if !(l_ab.is_finite() && l_bc.is_finite() && l_ca.is_finite()) {
+            return Err(WarpError::NonFinite {
+                what: "triangle edge length (overflow)",
+            });
+        }
+        let zero = T::zero();
+        if l_ab == zero || l_bc == zero || l_ca == zero {
+            return Err(WarpError::Degenerate {
+                what: "coincident vertices",
+            });
+        }
+        let d_ab = e_ab.scale(&(T::one() / &l_ab));
+        let d_bc = e_bc.scale(&(T::one() / &l_bc));
+        let d_ca = e_ca.scale(&(T::one() / &l_ca));
+        // The normal from the two shortest edges, i.e. at the vertex opposite
+        // the longest edge, where the angle's sine is largest. All three
+        // orientations equal (B − A) × (C − A):
+        // e_ca × e_ab (at A) = e_ab × e_bc (at B) = e_bc × e_ca (at C).
+        let (cross, l1, l2) = if l_bc >= l_ab && l_bc >= l_ca {
+            (d_ca.cross(&d_ab), &l_ca, &l_ab)
+        } else if l_ca >= l_ab {
+            (d_ab.cross(&d_bc), &l_ab, &l_bc)
+        } else {
+            (d_bc.cross(&d_ca), &l_bc, &l_ca)
+        };
+        let sine = scaled_norm(&cross);
+        if sine.is_nan() || sine <= T::from_i64(256) * T::unit_roundoff() {
+            return Err(WarpError::Degenerate {
+                what: "collinear vertices",
+            });
+        }
+        let normal = cross.scale(&(T::one() / &sine));
+        let two_area = l1.clone() * l2 * &sine;
+        if !two_area.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "triangle area (overflow)",
+            });
+        }
+        let area = two_area.clone() / T::from_i64(2);
+        let inv_area = T::one() / &area;
+        let m = normal.scale(&(T::one() / &two_area));
+        if area <= T::zero() || !inv_area.is_finite() || !m.is_finite() {
+            return Err(WarpError::Degenerate {
+                what: "triangle area underflows",
+            });
+        }
+        let extent = scaled_norm(&a).max(&scaled_norm(&b)).max(&scaled_norm(&c));
+        if !extent.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "vertex norm (overflow)",
+            });
+        }
+        let inverse_tolerance = T::exp2i(10) * T::unit_roundoff() * &extent;
+        Ok(PlanarTriangle {
+            a,
+            b,
+            c,
+            e_ab,
+            e_bc,
+            e_ca,
+            d_ab,
+            d_bc,
+            d_ca,
+            l_ab,
+            l_bc,
+            l_ca,
+            normal,
+            m,
+            area,
+            inv_area,
+            extent,
+            inverse_tolerance,
+        })
+    }
+
+    /// Vertex A (the image of u = 0).
+    pub fn a(&self) -> &Vec3<T> {
+        &self.a
+    }
+    /// Vertex B (the image of (u, v) = (1, 0)).
+    pub fn b(&self) -> &Vec3<T> {
+        &self.b
+    }
+    /// Vertex C (the image of (u, v) = (1, 1)).
+    pub fn c(&self) -> &Vec3<T> {
+        &self.c
+    }
+    /// The area, ½‖(B − A) × (C − A)‖.
+    pub fn area(&self) -> &T {
+        &self.area
+    }
+    /// The unit normal, oriented as (B − A) × (C − A).
+    pub fn normal(&self) -> &Vec3<T> {
+        &self.normal
+    }
+
+    /// Barycentric coordinates `(λ_A, λ_B, λ_C)` of the orthogonal projection
+    /// of `p` onto the triangle's plane (signed: negative outside an edge).
+    ///
+    /// Each coordinate is a signed area ratio `((edge × (p − V)) · n) / (2·area)`
+    /// with V an endpoint of the opposite edge; λ_B and λ_C are both taken
+    /// from A, so that they are accurate relative to their size near A.
+    pub fn barycentric(&self, p: &Vec3<T>) -> (T, T, T) {
+        let da = p.sub(&self.a);
+        let db = p.sub(&self.b);
+        let la = self.e_bc.cross(&db).dot(&self.m);
+        let lb = self.e_ca.cross(&da).dot(&self.m);
+        let lc = self.e_ab.cross(&da).dot(&self.m);
+        (la, lb, lc)
+    }
+
+    /// The coordinate chart φ⁻¹ of the barycentric parametrization
+    /// φ(s, t) = (1 − s)A + s(1 − t)B + stC: `(s, t) ∈ [0, 1]²` of the
+    /// projection of `p`, clamped onto the triangle.
+    ///
+    /// `s = λ_B + λ_C` (= 1 − λ_A, but accurate near A) and `t = λ_C / s`,
+    /// after clamping λ_B, λ_C to be non-negative; `t = 0` at `s = 0`.
+    /// `None` if `p` or the result is not finite.
+    pub fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !p.is_finite() {
+            return None;
+        }
+        let (_, lb, lc) = self.barycentric(p);
+        let lb = lb.max(&T::zero());
+        let lc = lc.max(&T::zero());
+        let sum = lb + &lc;
+        if !sum.is_finite() {
+            return None;
+        }
+        let t = if sum > T::zero() {
+            (lc / &sum).min(&T::one())
+        } else {
+            T::zero()
+        };
+        Some((sum.min(&T::one()), t))
+    }
+
+    /// The recipe specification of this triangle (steps 1–3).
+    pub fn recipe(&self) -> PlanarTriangleRecipe<T> {
+        PlanarTriangleRecipe {
+            triangle: self.clone(),
+        }
+    }
+}
+
+impl<T: Real> Warp<T> for PlanarTriangle<T> {
+    type Point = Vec3<T>;
+
+    /// ψ(u, v) of eq. (1.20), evaluated from the vertex of largest
+    /// barycentric weight (see the type's docs). `u` and `v` are clamped to
+    /// `[0, 1]` (NaN counts as 0).
+    fn map(&self, u: &T, v: &T) -> Vec3<T> {
+        let s = clamp01(u).sqrt();
+        let t = clamp01(v);
+        let la = T::one() - &s;
+        let lb = s.clone() * &(T::one() - &t);
+        let lc = s * &t;
+        if la >= lb && la >= lc {
+            // A + λ_B (B − A) + λ_C (C − A)
+            anchored(&self.a, &lb, &self.e_ab, &lc, &self.e_ca)
+        } else if lb >= lc {
+            // B + λ_C (C − B) + λ_A (A − B)
+            anchored(&self.b, &lc, &self.e_bc, &la, &self.e_ab)
+        } else {
+            // C + λ_A (A − C) + λ_B (B − C)
+            anchored(&self.c, &la, &self.e_ca, &lb, &self.e_bc)
+        }
+    }
+
+    /// `1 / area`, whatever `p` (the density is constant; `p` is not checked).
+    fn pdf(&self, _p: &Vec3<T>) -> T {
+        self.inv_area.clone()
+    }
+
+    /// The area.
+    fn measure(&self) -> T {
+        self.area.clone()
+    }
+
+    /// `(u, v) = (s², t)` from [`PlanarTriangle::chart`]; `None` if `p` is not
+    /// finite or lies farther than `1024·u·extent` from the triangle.
+    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !p.is_finite() || self.outside_by(p) > self.inverse_tolerance {
+            return None;
+        }
+        let (s, t) = self.chart(p)?;
+        Some((s.square(), t))
+    }
+
+    /// Euclidean distance from `p` to the (closed) triangle: the distance off
+    /// the plane when the projection of `p` falls inside, otherwise the
+    /// distance to the nearest edge. The distance to the nearest edge is
+    /// always an upper bound and is used as such, which keeps the result
+    /// meaningful for thin triangles whose normal is known only roughly.
+    /// Non-finite `p`: [`Real::max_value`].
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        if !p.is_finite() {
+            return T::max_value();
+        }
+        let edges = segment_distance(p, &self.a, &self.d_ab, &self.l_ab)
+            .min(&segment_distance(p, &self.b, &self.d_bc, &self.l_bc))
+            .min(&segment_distance(p, &self.c, &self.d_ca, &self.l_ca));
+        let (la, lb, lc) = self.barycentric(p);
+        let zero = T::zero();
+        if la >= zero && lb >= zero && lc >= zero {
+            let off_plane = self.normal.dot(&p.sub(&self.a)).abs();
+            edges.min(&off_plane)
+        } else {
+            edges
+        }
+    }
+
+    /// The largest vertex norm max(‖A‖, ‖B‖, ‖C‖): the scale of the absolute
+    /// rounding errors of coordinates (a small triangle far from the origin
+    /// cannot be evaluated more accurately than its position allows).
+    fn extent(&self) -> T {
+        self.extent.clone()
+    }
+}
+
+impl<T: Real> WarpFamily<T> for PlanarTriangle<T> {
+    type At<S: Real> = PlanarTriangle<S>;
+
+    /// The triangle with its vertices converted to `S` (which may fail, e.g.
+    /// if `S` cannot represent them or sees them as collinear).
+    fn at<S: Real>(&self) -> Result<PlanarTriangle<S>, WarpError> {
+        PlanarTriangle::new(self.a.convert(), self.b.convert(), self.c.convert())
+    }
+
+    /// `planar-triangle`.
+    fn name(&self) -> String {
+        "planar-triangle".to_string()
+    }
+}
+
+/// Arvo's recipe for the planar triangle (steps 1–3), the specification the
+/// direct map [`PlanarTriangle`] is tested against.
+///
+/// 1. φ(s, t) = (1 − s)A + s(1 − t)B + stC (barycentric; bijective except at s = 0).
+/// 2. σ(s, t) = ‖φ_s × φ_t‖ = 2·area·s.
+/// 3. F(s) = s², G_s(t) = t; inverses f(u) = √u, g(u, v) = v.
+///
+/// # Density
+/// Uniform: weight 1, measure = area, so the composed map has density
+/// `1 / area` in the triangle's area measure.
+///
+/// # Example
+/// ```
+/// use areawarp::recipe::{ClosedForm, RecipeWarp};
+/// use areawarp::shapes::{PlanarTriangle, PlanarTriangleRecipe};
+/// use areawarp::{Vec3, Warp};
+///
+/// let (a, b, c) = (
+///     Vec3::<f64>::new(0.0, 0.0, 1.0),
+///     Vec3::new(1.0, 0.0, 1.0),
+///     Vec3::new(0.0, 1.0, 1.0),
+/// );
+/// let direct = PlanarTriangle::new(a.clone(), b.clone(), c.clone()).unwrap();
+/// let composed = RecipeWarp::new(PlanarTriangleRecipe::new(a, b, c).unwrap(), ClosedForm, ClosedForm);
+/// let (p, q) = (direct.map(&0.3, &0.6), composed.map(&0.3, &0.6));
+/// assert!(p.sub(&q).norm() < 1e-15);
+/// ```
+#[derive(Clone, Debug)]
+pub struct PlanarTriangleRecipe<T> {
+    triangle: PlanarTriangle<T>,
+}
+
+impl<T: Real> PlanarTriangleRecipe<T> {
+    /// The recipe of the triangle `abc`; validated as [`PlanarTriangle::new`].
+    ///
+    /// # Errors
+    /// As [`PlanarTriangle::new`].
+    pub fn new(a: Vec3<T>, b: Vec3<T>, c: Vec3<T>) -> Result<Self, WarpError> {
+        PlanarTriangle::new(a, b, c).map(|triangle| PlanarTriangleRecipe { triangle })
+    }
+
+    /// The validated triangle behind this recipe.
+    pub fn triangle(&self) -> &PlanarTriangle<T> {
+        &self.triangle
+    }
+}
+
+impl<T: Real> Parametrization<T> for PlanarTriangleRecipe<T> {
+    /// φ(s, t) = (1 − s)A + s(1 − t)B + stC.
+    fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
+        let a: Vec3<S> = embed3(&self.triangle.a);
+        let b: Vec3<S> = embed3(&self.triangle.b);
+        let c: Vec3<S> = embed3(&self.triangle.c);
+        let wa = S::one() - s;
+        let wb = s.clone() * &(S::one() - t);
+        let wc = s.clone() * t;
+        a.scale(&wa).add(&b.scale(&wb)).add(&c.scale(&wc))
+    }
+
+    /// See [`PlanarTriangle::chart`].
+    fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        self.triangle.chart(p)
+    }
+}
+
+impl<T: Real> AreaDensity<T> for PlanarTriangleRecipe<T> {
+    /// σ(s, t) = 2·area·s (closed form of ‖φ_s × φ_t‖).
+    fn sigma(&self, s: &T, _t: &T) -> T {
+        self.triangle.area.clone() * T::from_i64(2) * s
+    }
+}
+
+impl<T: Real> MarginalConditional<T> for PlanarTriangleRecipe<T> {
+    fn measure(&self) -> T {
+        self.triangle.area.clone()
+    }
+    /// F(s) = s².
+    fn marginal_cdf(&self, s: &T) -> T {
+        s.square()
+    }
+    /// F'(s) = 2s.
+    fn marginal_pdf(&self, s: &T) -> T {
+        s.clone() * T::from_i64(2)
+    }
+    /// G_s(t) = t.
+    fn conditional_cdf(&self, _s: &T, t: &T) -> T {
+        t.clone()
+    }
+    /// ∂G_s/∂t = 1.
+    fn conditional_pdf(&self, _s: &T, _t: &T) -> T {
+        T::one()
+    }
+    /// f(u) = √u (u clamped at 0).
+    fn marginal_inverse(&self, u: &T) -> Option<T> {
+        Some(u.max(&T::zero()).sqrt())
+    }
+    /// g(s, v) = v.
+    fn conditional_inverse(&self, _s: &T, v: &T) -> Option<T> {
+        Some(v.clone())
+    }
+}
+
+impl<T: Real> Recipe<T> for PlanarTriangleRecipe<T> {
+    type At<S: Real> = PlanarTriangleRecipe<S>;
+    fn recast<S: Real>(&self) -> Result<PlanarTriangleRecipe<S>, WarpError> {
+        self.triangle
+            .at::<S>()
+            .map(|triangle| PlanarTriangleRecipe { triangle })
+    }
+    fn name(&self) -> String {
+        "planar-triangle".to_string()
+    }
+    /// As [`PlanarTriangle`]'s `outside_by`.
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        self.triangle.outside_by(p)
+    }
+    /// As [`PlanarTriangle`]'s `extent`.
+    fn extent(&self) -> T {
+        self.triangle.extent.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real::Dual2;
+    use proptest::prelude::*;
+
+    fn tri(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> Result<PlanarTriangle<f64>, WarpError> {
+        PlanarTriangle::new(
+            Vec3::from_f64(a[0], a[1], a[2]),
+            Vec3::from_f64(b[0], b[1], b[2]),
+            Vec3::from_f64(c[0], c[1], c[2]),
+        )
+    }
+
+    fn sample() -> PlanarTriangle<f64> {
+        tri([0.3, -1.2, 2.0], [2.5, 0.7, -0.4], [-1.1, 1.9, 0.8]).unwrap()
+    }
+
+    /// u, v ∈ {0, 2^-60, 1e-12, 1e-6, 1/2, 1 − 1e-6, 1 − 2^-40, 1}.
+    fn grid() -> Vec<f64> {
+        vec![
+            0.0,
+            2f64.powi(-60),
+            1e-12,
+            1e-6,
+            0.5,
+            1.0 - 1e-6,
+            1.0 - 2f64.powi(-40),
+            1.0,
+        ]
+    }
+
+    #[test]
+    fn corners_are_exact_vertices() {
+        let t = sample();
+        for v in grid() {
+            assert_eq!(t.map(&0.0, &v), *t.a());
+        }
+        assert_eq!(t.map(&1.0, &0.0), *t.b());
+        assert_eq!(t.map(&1.0, &1.0), *t.c());
+    }
+
+    #[test]
+    fn edges_and_grid_map_onto_triangle() {
+        let t = sample();
+        let u_r = f64::EPSILON / 2.0;
+        for u in grid() {
+            for v in grid() {
+                let p = t.map(&u, &v);
+                assert!(p.is_finite(), "({u}, {v}) -> {p:?}");
+                let out = t.outside_by(&p);
+                assert!(out <= 8.0 * u_r * t.extent(), "({u},{v}): {out:e}");
+            }
+        }
+        // A point clearly off the plane and one outside an edge.
+        let off = t.map(&0.3, &0.3).add(&t.normal().scale(&0.5));
+        assert!((t.outside_by(&off) - 0.5).abs() < 1e-12);
+        let beyond = t.b().add(&t.b().sub(t.a()).scale(&0.25));
+        let d = t.outside_by(&beyond);
+        assert!((d - 0.25 * t.b().sub(t.a()).norm()).abs() < 1e-12, "{d}");
+        assert!(t.inverse(&off).is_none());
+        assert!(t.inverse(&beyond).is_none());
+    }
+
+    #[test]
+    fn side_of_square_maps_onto_edge() {
+        // Shifted triangle: v = 0 lands exactly on AB and v = 1 exactly on AC
+        // (a zero weight is an exact zero), u = 1 on BC.
+        let t = tri(
+            [1e3, 1e3, 0.0],
+            [1e3 + 1.0, 1e3, 0.0],
+            [1e3, 1e3 + 3.0, 0.0],
+        )
+        .unwrap();
+        for x in grid() {
+            let (la, _, _) = t.barycentric(&t.map(&1.0, &x));
+            assert!(la.abs() <= 1e-12, "u = 1 is BC: λ_A = {la:e}");
+            let p = t.map(&x, &0.0);
+            assert_eq!(p.y, 1e3, "v = 0 is AB");
+            let q = t.map(&x, &1.0);
+            assert_eq!(q.x, 1e3, "v = 1 is AC");
+        }
+    }
+
+    #[test]
+    fn round_trip_f64() {
+        let t = sample();
+        for u in grid() {
+            for v in grid() {
+                let p = t.map(&u, &v);
+                let (u2, v2) = t.inverse(&p).expect("on the triangle");
+                assert!((0.0..=1.0).contains(&u2) && (0.0..=1.0).contains(&v2));
+                assert!((u - u2).abs() <= 1e-12, "u: ({u},{v}) -> ({u2},{v2})");
+                // v is singular at u = 0: compare it weighted by s = √u.
+                assert!(
+                    u.sqrt() * (v - v2).abs() <= 1e-12,
+                    "v: ({u},{v}) -> ({u2},{v2})"
+                );
+                if u >= 1e-6 {
+                    assert!((v - v2).abs() <= 1e-12, "v: ({u},{v}) -> ({u2},{v2})");
+                }
+            }
+        }
+        // The apex: s = 0 gives t = 0, not NaN.
+        assert_eq!(t.inverse(t.a()), Some((0.0, 0.0)));
+        assert_eq!(t.inverse(t.c()), Some((1.0, 1.0)));
+        assert!(t.inverse(&Vec3::new(f64::NAN, 0.0, 0.0)).is_none());
+    }
+
+    #[test]
+    fn constructor_rejects_bad_input() {
+        let ok = [1.0, 0.0, 0.0];
+        let o = [0.0, 0.0, 0.0];
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            assert!(matches!(
+                tri([bad, 0.0, 0.0], ok, [0.0, 1.0, 0.0]),
+                Err(WarpError::NonFinite { .. })
+            ));
+            assert!(matches!(
+                tri(o, ok, [0.0, 0.0, bad]),
+                Err(WarpError::NonFinite { .. })
+            ));
+        }
+        // Overflowing edge.
+        assert!(matches!(
+            tri([-1e308, 0.0, 0.0], [1e308, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            Err(WarpError::NonFinite { .. })
+        ));
+        assert_eq!(
+            tri(o, o, ok).unwrap_err(),
+            WarpError::Degenerate {
+                what: "coincident vertices"
+            }
+        );
+        assert_eq!(
+            tri(o, ok, ok).unwrap_err(),
+            WarpError::Degenerate {
+                what: "coincident vertices"
+            }
+        );
+        assert_eq!(
+            tri(o, [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]).unwrap_err(),
+            WarpError::Degenerate {
+                what: "collinear vertices"
+            }
+        );
+        // Exactly collinear far from the origin: the computed sine is rounding noise.
+        let far = 1e9;
+        assert!(matches!(
+            tri(
+                [far, far, far],
+                [far + 1.0, far + 2.0, far + 3.0],
+                [far + 2.0, far + 4.0, far + 6.0]
+            ),
+            Err(WarpError::Degenerate { .. })
+        ));
+        // Rotated collinear data (not axis-aligned, inexact unit vectors).
+        assert!(tri([0.1, 0.7, -0.3], [0.4, 1.3, 0.6], [1.0, 2.5, 2.4]).is_err());
+        // Scale invariance: the same shapes at 1e-150 and 1e150 are accepted.
+        for k in [1e-150, 1.0, 1e150] {
+            let t = tri([0.0; 3], [k, 0.0, 0.0], [0.0, k, 0.0]).unwrap();
+            assert!((t.area() / (0.5 * k * k) - 1.0).abs() < 1e-15);
+            assert!(tri([0.0; 3], [k, k, k], [2.0 * k, 2.0 * k, 2.0 * k]).is_err());
+        }
+        // A thin but well-defined needle (right angle at B) is accepted,
+        // a cap whose largest angle has sin θ ≈ 1e-15 is not.
+        assert!(tri(o, ok, [1.0, 1e-12, 0.0]).is_ok());
+        assert!(tri(o, [2.0, 0.0, 0.0], [1.0, 5e-16, 5e-16]).is_err());
+    }
+
+    #[test]
+    fn f32_rebuild_and_name() {
+        let t = sample();
+        assert_eq!(t.name(), "planar-triangle");
+        let t32 = t.at::<f32>().unwrap();
+        assert!((t32.measure() as f64 - t.measure()).abs() < 1e-6 * t.measure());
+        let p = t32.map(&1.0, &1.0);
+        assert_eq!(p, t.c().convert::<f32>());
+        // Vertices out of f32 range.
+        let big = tri([0.0; 3], [1e100, 0.0, 0.0], [0.0, 1e100, 0.0]).unwrap();
+        assert!(matches!(big.at::<f32>(), Err(WarpError::NonFinite { .. })));
+    }
+
+    #[test]
+    fn jacobian_is_area_in_duals() {
+        // Includes a vertex at the origin and axis-aligned edges (zero
+        // coordinates in the constant dual numbers of the construction).
+        let axis = tri([0.0; 3], [0.0, 0.0, 2.0], [0.0, 3.0, 0.0]).unwrap();
+        for t in [sample(), axis] {
+            let d = t.at::<Dual2<f64>>().unwrap();
+            for u in [1e-6, 0.1, 0.25, 0.5, 0.9, 1.0] {
+                for v in [0.0, 0.3, 0.5, 0.99, 1.0] {
+                    let p = d.map(&Dual2::seed_u(u), &Dual2::seed_v(v));
+                    let pu = Vec3::new(p.x.du, p.y.du, p.z.du);
+                    let pv = Vec3::new(p.x.dv, p.y.dv, p.z.dv);
+                    let j = pu.cross(&pv).norm() * t.pdf(&t.map(&u, &v));
+                    assert!((j - 1.0).abs() < 1e-13, "({u},{v}): {j}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn recipe_sigma_integrates_to_area() {
+        let r = sample().recipe();
+        let m = r.measure();
+        // σ from exact dual partials matches the closed form 2·area·s.
+        for s in [0.0, 0.2, 0.5, 1.0] {
+            for t in [0.0, 0.4, 1.0] {
+                let [_, ps, pt] = r.partials(&s, &t);
+                let exact = ps.cross(&pt).norm();
+                assert!((exact - r.sigma(&s, &t)).abs() <= 1e-14 * m, "{s} {t}");
+            }
+        }
+        // F(0) = 0, F(1) = 1, G_s(1) = 1, and F'(s) = ∫₀¹ σ(s, t) dt / m
+        // (Simpson, exact for σ's degree).
+        assert_eq!(r.marginal_cdf(&0.0), 0.0);
+        assert_eq!(r.marginal_cdf(&1.0), 1.0);
+        assert_eq!(r.conditional_cdf(&0.3, &1.0), 1.0);
+        for s in [0.1, 0.5, 0.8] {
+            let int = (r.sigma(&s, &0.0) + 4.0 * r.sigma(&s, &0.5) + r.sigma(&s, &1.0)) / 6.0;
+            assert!((int / m - r.marginal_pdf(&s)).abs() < 1e-14);
+        }
+        // ∫∫σ = area (Simpson in s, exact for a linear integrand).
+        let total = (r.sigma(&0.0, &0.5) + 4.0 * r.sigma(&0.5, &0.5) + r.sigma(&1.0, &0.5)) / 6.0;
+        assert!((total - m).abs() < 1e-14 * m);
+        assert!((m - sample().area()).abs() == 0.0);
+    }
+
+    #[cfg(feature = "mpfr")]
+    #[test]
+    fn recipe_matches_direct_map_at_256_bits() {
+        use crate::real::Mpfr256;
+        use crate::recipe::{ClosedForm, RecipeWarp};
+        let t = sample().at::<Mpfr256>().unwrap();
+        let w = RecipeWarp::new(t.recipe(), ClosedForm, ClosedForm);
+        assert_eq!(w.name(), "recipe:planar-triangle");
+        let one = Mpfr256::one();
+        let xs = [
+            Mpfr256::zero(),
+            Mpfr256::exp2i(-60),
+            Mpfr256::from_ratio(1, 2),
+            one.clone() - Mpfr256::exp2i(-40),
+            one,
+        ];
+        let tol = Mpfr256::exp2i(-240) * t.extent();
+        for u in &xs {
+            for v in &xs {
+                let p = t.map(u, v);
+                let q = w.map(u, v);
+                let d = p.sub(&q).norm();
+                assert!(d <= tol, "({u}, {v}): {d}");
+                // The composed inverse agrees too.
+                if let (Some((u1, v1)), Some((u2, v2))) = (t.inverse(&p), w.inverse(&p)) {
+                    assert!((u1 - &u2).abs() <= Mpfr256::exp2i(-240));
+                    assert!((v1 - &v2).abs() <= Mpfr256::exp2i(-240));
+                } else {
+                    panic!("inverse failed at ({u}, {v})");
+                }
+            }
+        }
+        // The recipe rebuilt through `recast` is the same recipe.
+        let r64 = sample().recipe();
+        let r256 = r64.recast::<Mpfr256>().unwrap();
+        let rel = r256.triangle().area().to_f64() / sample().area() - 1.0;
+        assert!(rel.abs() < 1e-15, "{rel:e}");
+    }
+
+    #[cfg(feature = "mpfr")]
+    #[test]
+    fn f64_map_is_accurate() {
+        use crate::real::Mpfr256;
+        // Against the same triangle at 256 bits (f64 vertices convert exactly):
+        // a general triangle, one far from the origin and small, and one with
+        // an obtuse angle. The bound is in units of roundoff times the extent.
+        let tris = [
+            sample(),
+            tri(
+                [1e3, 1e3, 1e3],
+                [1e3 + 1e-3, 1e3, 1e3 + 3e-4],
+                [1e3, 1e3 - 7e-4, 1e3 + 2e-4],
+            )
+            .unwrap(),
+            tri([-1.0, 0.1, 0.0], [1.0, 0.0, 0.2], [0.05, 0.3, 0.1]).unwrap(),
+        ];
+        let ur = f64::EPSILON / 2.0;
+        for t in tris {
+            let t256 = t.at::<Mpfr256>().unwrap();
+            for u in grid().into_iter().chain([0.1, 0.37, 0.81]) {
+                for v in grid().into_iter().chain([0.2, 0.66]) {
+                    let p = t.map(&u, &v);
+                    let q = t256.map(&Mpfr256::from_f64(u), &Mpfr256::from_f64(v));
+                    let q = Vec3::new(q.x.to_f64(), q.y.to_f64(), q.z.to_f64());
+                    let err = p.sub(&q).norm() / (ur * t.extent());
+                    assert!(err <= 4.0, "({u},{v}): {err} units of roundoff");
+                }
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(256))]
+        #[test]
+        fn random_triangles(
+            a in prop::array::uniform3(-100.0f64..100.0),
+            b in prop::array::uniform3(-100.0f64..100.0),
+            c in prop::array::uniform3(-100.0f64..100.0),
+            u in 0.0f64..=1.0,
+            v in 0.0f64..=1.0,
+        ) {
+            let t = match tri(a, b, c) {
+                Ok(t) => t,
+                Err(e) => {
+                    prop_assert!(matches!(e, WarpError::Degenerate { .. }), "unexpected {:?}", e);
+                    return Err(TestCaseError::reject("degenerate"));
+                }
+            };
+            let longest = t.l_ab.max(t.l_bc).max(t.l_ca);
+            // Conditioning of barycentric coordinates: extent · longest / (2·area).
+            let kappa = t.extent() * longest / (2.0 * t.area());
+            prop_assume!(kappa < 1e6);
+            let ur = f64::EPSILON / 2.0;
+            let p = t.map(&u, &v);
+            prop_assert!(p.is_finite());
+            let out = t.outside_by(&p);
+            prop_assert!(out <= 16.0 * ur * t.extent(), "outside_by = {:e}", out);
+            let (u2, v2) = t.inverse(&p).expect("mapped point is on the triangle");
+            let tol = 256.0 * ur * kappa;
+            prop_assert!((u - u2).abs() <= tol, "u {} -> {}", u, u2);
+            prop_assert!(u.sqrt() * (v - v2).abs() <= tol, "v {} -> {}", v, v2);
+        }
+    }
+}

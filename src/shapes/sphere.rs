@@ -1,0 +1,863 @@
+//! Uniform sampling of the unit sphere by Archimedes' axial projection
+//! (Shao & Badler 1996): `z = 1 − 2u`, `φ = 2πv`, optionally about a
+//! rotated (e.g. random) axis. Derivation: `docs/sphere.md`.
+
+use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, positive, turns_of};
+use crate::error::WarpError;
+use crate::real::{Embed, Real};
+use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
+use crate::vector::Vec3;
+use crate::warp::{Warp, WarpFamily};
+use rand::{Rng, RngExt};
+
+/// A right-handed orthonormal frame `(e1, e2, axis)` around a unit axis.
+#[derive(Clone, Debug)]
+struct Frame<T> {
+    e1: Vec3<T>,
+    e2: Vec3<T>,
+    axis: Vec3<T>,
+}
+
+impl<T: Real> Frame<T> {
+    /// Validates and normalizes `axis`, then completes it to a frame
+    /// (Duff et al. 2017, "Building an orthonormal basis, revisited":
+    /// branch-free apart from the sign of `z`, no cancellation).
+    fn from_axis(axis: &Vec3<T>) -> Result<Self, WarpError> {
+        if !axis.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "sphere axis",
+            });
+        }
+        // Scale by the largest coordinate first: no overflow for huge and no
+        // underflow for subnormal inputs.
+        let m = axis.max_abs();
+        if !positive(&m) {
+            return Err(WarpError::Degenerate {
+                what: "sphere axis is the zero vector",
+            });
+        }
+        let b = Vec3::new(
+            axis.x.clone() / &m,
+            axis.y.clone() / &m,
+            axis.z.clone() / &m,
+        );
+        let n = b.norm();
+        let a = Vec3::new(b.x / &n, b.y / &n, b.z / &n);
+        let one = T::one();
+        let sign = one.copysign(&a.z);
+        let s = -(one.clone() / &(sign.clone() + &a.z));
+        let c = a.x.clone() * &a.y * &s;
+        let e1 = Vec3::new(
+            one + &(sign.clone() * &a.x.square() * &s),
+            sign.clone() * &c,
+            -(sign.clone() * &a.x),
+        );
+        let e2 = Vec3::new(c, sign + &(a.y.square() * &s), -a.y.clone());
+        Ok(Frame { e1, e2, axis: a })
+    }
+
+    /// `l.x·e1 + l.y·e2 + l.z·axis`, in any scalar the frame embeds into.
+    fn to_world<S: Embed<T>>(&self, l: &Vec3<S>) -> Vec3<S> {
+        let col = |i: usize| {
+            let (a, b, c) = match i {
+                0 => (&self.e1.x, &self.e2.x, &self.axis.x),
+                1 => (&self.e1.y, &self.e2.y, &self.axis.y),
+                _ => (&self.e1.z, &self.e2.z, &self.axis.z),
+            };
+            l.x.clone() * &S::embed(a)
+                + &(l.y.clone() * &S::embed(b))
+                + &(l.z.clone() * &S::embed(c))
+        };
+        Vec3::new(col(0), col(1), col(2))
+    }
+
+    /// The coordinates of `p` in the frame.
+    fn to_local(&self, p: &Vec3<T>) -> Vec3<T> {
+        Vec3::new(p.dot(&self.e1), p.dot(&self.e2), p.dot(&self.axis))
+    }
+
+    fn convert<S: Real>(&self) -> Result<Frame<S>, WarpError> {
+        Frame::from_axis(&self.axis.convert())
+    }
+}
+
+/// `(u, v)` of a unit-sphere point in the frame's local coordinates.
+fn local_inverse<T: Real>(l: &Vec3<T>, inv_two_pi: &T) -> (T, T) {
+    let n = l.norm();
+    let (x, y, z) = (l.x.clone() / &n, l.y.clone() / &n, l.z.clone() / &n);
+    let one = T::one();
+    let two = T::from_i64(2);
+    // u = (1 − z)/2. In the north 1 − z = ρ²/(1 + z) keeps the relative
+    // accuracy of tiny u; in the south 1 − u = (1 + z)/2 = ρ²/(2(1 − z)) is
+    // computed from ρ² = x² + y², which a rotated point carries to relative
+    // accuracy (its z does not), and u is rounded once from it.
+    let rho2 = x.square() + &y.square();
+    let u = if z > T::zero() {
+        rho2 / &((one + &z) * &two)
+    } else {
+        one.clone() - &(rho2 / &((one - &z) * &two))
+    };
+    (clamp_unit(&u), turns_of(&y, &x, inv_two_pi))
+}
+
+/// Uniform points on the unit sphere by Archimedes' axial projection
+/// (Shao & Badler 1996): a uniform point `(z, φ) = (1 − 2u, 2πv)` on the
+/// circumscribed cylinder `[−1, 1] × [0, 2π)` is projected back onto the
+/// sphere along the ray from the axis,
+///
+/// ψ(u, v) = (sin θ cos 2πv, sin θ sin 2πv, 1 − 2u),  sin θ = 2√(u (1 − u)),
+///
+/// in the frame of the cylinder axis (`+z` by default, see
+/// [`Sphere::with_axis`]). `u = 0` is the north pole (the axis), `u = 1` the
+/// south pole.
+///
+/// Numerics: `sin θ = √(1 − z²)` is computed as `2√(u(1 − u))`, which does
+/// not cancel at either pole; the azimuth is reduced by quarter turns; the
+/// inverse takes `u = (x² + y²)/(2(1 + z))` in the northern hemisphere. One
+/// asymmetry remains and is intrinsic to the input: floating-point `u` are
+/// dense near 0, so samples come arbitrarily close to the north pole, but
+/// spaced by `2^-p` just below 1 (`p` = 53 in `f64`), so `1 − u ≥ 2^-p` and
+/// `sin θ = 2√(u(1 − u)) ≳ 2^(1−p/2)`: no sample falls strictly inside the
+/// south polar cap of angular radius `≈ 2^(1−p/2)` (≈ 2.1e-8 in `f64`,
+/// ≈ 4.9e-4 in `f32`). This is the pole-concentrated truncation error Shao
+/// and Badler point out (§3, remark 3); their cure is a random axis, see
+/// [`Sphere::with_random_axis`].
+///
+/// # Density
+/// Uniform in solid angle: `pdf(p) = 1/(4π)`, `measure() = 4π`.
+///
+/// # Example
+/// ```
+/// use areawarp::shapes::Sphere;
+/// use areawarp::Warp;
+///
+/// let s = Sphere::<f64>::new();
+/// let p = s.map(&0.75, &0.25);
+/// assert!((p.z + 0.5).abs() < 1e-15); // z = 1 − 2u
+/// assert!((p.norm() - 1.0).abs() < 1e-15);
+/// assert!((s.pdf(&p) * s.measure() - 1.0).abs() < 1e-15);
+/// let (u, v) = s.inverse(&p).unwrap();
+/// assert!((u - 0.75).abs() < 1e-15 && (v - 0.25).abs() < 1e-15);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Sphere<T> {
+    frame: Option<Frame<T>>,
+    half_pi: T,
+    inv_two_pi: T,
+    four_pi: T,
+    inv_four_pi: T,
+}
+
+impl<T: Real> Sphere<T> {
+    fn build(frame: Option<Frame<T>>) -> Self {
+        let pi = T::pi();
+        let four_pi = pi.clone() * &T::from_i64(4);
+        Sphere {
+            frame,
+            half_pi: pi.clone() / &T::from_i64(2),
+            inv_two_pi: T::one() / &(pi * &T::from_i64(2)),
+            inv_four_pi: T::one() / &four_pi,
+            four_pi,
+        }
+    }
+
+    /// The sphere warp with the cylinder axis `+z`.
+    ///
+    /// # Density
+    /// `1/(4π)` per steradian.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::Sphere;
+    /// use areawarp::Warp;
+    /// let s = Sphere::<f32>::new();
+    /// assert_eq!(s.map(&0.0, &0.4).z, 1.0);
+    /// assert_eq!(s.map(&0.5, &0.4).z, 0.0);
+    /// assert_eq!(s.map(&1.0, &0.4).z, -1.0);
+    /// ```
+    pub fn new() -> Self {
+        Self::build(None)
+    }
+
+    /// The sphere warp with the cylinder axis along `axis` (normalized
+    /// here): `ψ(0, v) = axis/|axis|`, and the azimuth is measured in a
+    /// right-handed orthonormal frame `(e1, e2, axis)` completed from it.
+    ///
+    /// Shao and Badler (§3, remark 3) note that the truncation errors of the
+    /// axial projection are not uniform over the sphere but concentrate
+    /// around the two poles of the axis, and suggest a random axis per
+    /// sample to spread them; for stratified sampling, stratify the axis
+    /// (e.g. with a second, coarser stratified set through
+    /// [`Sphere::random_axis`]'s map) and the cylinder separately.
+    ///
+    /// # Errors
+    /// [`WarpError::NonFinite`] if a coordinate is NaN or infinite,
+    /// [`WarpError::Degenerate`] for the zero vector.
+    ///
+    /// # Density
+    /// `1/(4π)` per steradian, whatever the axis.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::Sphere;
+    /// use areawarp::{Vec3, Warp, WarpError};
+    /// let s = Sphere::with_axis(Vec3::new(3.0f64, 0.0, 4.0)).unwrap();
+    /// let north = s.map(&0.0, &0.0);
+    /// assert!((north.x - 0.6).abs() < 1e-15 && (north.z - 0.8).abs() < 1e-15);
+    /// assert!(matches!(Sphere::with_axis(Vec3::<f64>::zero()), Err(WarpError::Degenerate { .. })));
+    /// ```
+    pub fn with_axis(axis: Vec3<T>) -> Result<Self, WarpError> {
+        Ok(Self::build(Some(Frame::from_axis(&axis)?)))
+    }
+
+    /// A uniformly distributed random unit vector, drawn with two `f64`
+    /// uniforms from `rng` and mapped through the `+z` sphere warp; meant
+    /// for [`Sphere::with_axis`] (see [`Sphere::with_random_axis`]).
+    ///
+    /// The uniforms have 53-bit resolution whatever `T` is.
+    ///
+    /// # Density
+    /// Uniform on the unit sphere: `1/(4π)` per steradian.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::Sphere;
+    /// use rand::{SeedableRng, rngs::SmallRng};
+    /// let mut rng = SmallRng::seed_from_u64(7);
+    /// let a = Sphere::<f64>::random_axis(&mut rng);
+    /// assert!((a.norm() - 1.0).abs() < 1e-15);
+    /// ```
+    pub fn random_axis<R: Rng + ?Sized>(rng: &mut R) -> Vec3<T> {
+        let u: f64 = rng.random();
+        let v: f64 = rng.random();
+        Sphere::<T>::new().map(&T::from_f64(u), &T::from_f64(v))
+    }
+
+    /// The sphere warp about a uniformly random axis ([`Sphere::random_axis`]):
+    /// Shao and Badler's remedy for the pole-concentrated truncation error of
+    /// a fixed axis (§3, remark 3). Building one is cheap (a frame from one
+    /// vector), so it can be done per sample or per batch of samples.
+    ///
+    /// # Density
+    /// `1/(4π)` per steradian for every axis, so also for a random one.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::Sphere;
+    /// use areawarp::Warp;
+    /// use rand::{SeedableRng, rngs::SmallRng};
+    /// let mut rng = SmallRng::seed_from_u64(1);
+    /// let s = Sphere::<f64>::with_random_axis(&mut rng);
+    /// assert!((s.map(&0.0, &0.0).sub(&s.axis())).norm() < 1e-15);
+    /// ```
+    pub fn with_random_axis<R: Rng + ?Sized>(rng: &mut R) -> Self {
+        match Frame::from_axis(&Self::random_axis(rng)) {
+            Ok(frame) => Self::build(Some(frame)),
+            // Unreachable (the axis is a unit vector); stay total anyway.
+            Err(_) => Self::new(),
+        }
+    }
+
+    /// The unit cylinder axis: `+z`, or the normalized axis given to
+    /// [`Sphere::with_axis`].
+    ///
+    /// # Density
+    /// The density does not depend on the axis.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::Sphere;
+    /// use areawarp::Vec3;
+    /// assert_eq!(Sphere::<f64>::new().axis(), Vec3::new(0.0, 0.0, 1.0));
+    /// let a = Sphere::with_axis(Vec3::new(0.0, -2.0f64, 0.0)).unwrap().axis();
+    /// assert_eq!(a, Vec3::new(0.0, -1.0, 0.0));
+    /// ```
+    pub fn axis(&self) -> Vec3<T> {
+        match &self.frame {
+            Some(f) => f.axis.clone(),
+            None => Vec3::new(T::zero(), T::zero(), T::one()),
+        }
+    }
+}
+
+impl<T: Real> Default for Sphere<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real> Warp<T> for Sphere<T> {
+    type Point = Vec3<T>;
+
+    fn map(&self, u: &T, v: &T) -> Vec3<T> {
+        let u = clamp_unit(u);
+        let one = T::one();
+        let two = T::from_i64(2);
+        let z = one.clone() - &(u.clone() * &two);
+        let sin_theta = (u.clone() * &(one - &u)).sqrt() * &two;
+        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
+        let local = Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z);
+        match &self.frame {
+            Some(f) => f.to_world(&local),
+            None => local,
+        }
+    }
+
+    fn pdf(&self, _p: &Vec3<T>) -> T {
+        self.inv_four_pi.clone()
+    }
+
+    fn measure(&self) -> T {
+        self.four_pi.clone()
+    }
+
+    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
+            return None;
+        }
+        Some(match &self.frame {
+            Some(f) => local_inverse(&f.to_local(p), &self.inv_two_pi),
+            None => local_inverse(p, &self.inv_two_pi),
+        })
+    }
+
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        (p.norm() - &T::one()).abs()
+    }
+}
+
+impl<T: Real> WarpFamily<T> for Sphere<T> {
+    type At<S: Real> = Sphere<S>;
+    fn at<S: Real>(&self) -> Result<Sphere<S>, WarpError> {
+        Ok(match &self.frame {
+            Some(f) => Sphere::build(Some(f.convert()?)),
+            None => Sphere::new(),
+        })
+    }
+    fn name(&self) -> String {
+        "sphere".to_string()
+    }
+}
+
+/// The recipe specification of [`Sphere`], steps 1–4, in spherical
+/// coordinates about the cylinder axis:
+///
+/// 1. φ(s, t) = (sin πs cos 2πt, sin πs sin 2πt, cos πs) in the frame of the
+///    axis (`s` the polar angle in units of π, `t` the azimuth in turns);
+/// 2. σ(s, t) = ‖φ_s × φ_t‖ = 2π² sin πs (derived by dual numbers);
+/// 3. m = 4π, F(s) = (1 − cos πs)/2 = sin²(πs/2), G_s(t) = t;
+/// 4. F⁻¹(u) = (2/π) arcsin √u, evaluated as (2/π) atan2(√u, √(1 − u)),
+///    G_s⁻¹(v) = v.
+///
+/// Composing gives cos πs = 1 − 2u and sin πs = 2√(u(1 − u)): the recipe
+/// rediscovers Archimedes' axial projection, i.e. [`Sphere`], which the unit
+/// tests check at 256 bits.
+///
+/// # Density
+/// Weight 1 (uniform): density `1/(4π)` per steradian, total measure 4π.
+///
+/// # Example
+/// ```
+/// use areawarp::recipe::{ClosedForm, RecipeWarp};
+/// use areawarp::shapes::{Sphere, SphereRecipe};
+/// use areawarp::Warp;
+///
+/// let spec = RecipeWarp::new(SphereRecipe::<f64>::new(), ClosedForm, ClosedForm);
+/// let p = spec.map(&0.3, &0.6);
+/// let q = Sphere::<f64>::new().map(&0.3, &0.6);
+/// assert!(p.sub(&q).norm() < 1e-15);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SphereRecipe<T> {
+    frame: Option<Frame<T>>,
+    pi: T,
+    half_pi: T,
+    two_pi: T,
+    inv_two_pi: T,
+    inv_pi: T,
+    two_over_pi: T,
+    four_pi: T,
+}
+
+impl<T: Real> SphereRecipe<T> {
+    fn build(frame: Option<Frame<T>>) -> Self {
+        let pi = T::pi();
+        let two_pi = pi.clone() * &T::from_i64(2);
+        SphereRecipe {
+            frame,
+            half_pi: pi.clone() / &T::from_i64(2),
+            inv_two_pi: T::one() / &two_pi,
+            two_pi,
+            inv_pi: T::one() / &pi,
+            two_over_pi: T::from_i64(2) / &pi,
+            four_pi: pi.clone() * &T::from_i64(4),
+            pi,
+        }
+    }
+
+    /// The recipe about the `+z` axis.
+    ///
+    /// # Density
+    /// σ(s, t) = 2π² sin πs, total measure 4π.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::recipe::MarginalConditional;
+    /// use areawarp::shapes::SphereRecipe;
+    /// let r = SphereRecipe::<f64>::new();
+    /// assert!((r.marginal_cdf(&0.5) - 0.5).abs() < 1e-15);
+    /// ```
+    pub fn new() -> Self {
+        Self::build(None)
+    }
+
+    /// The recipe about `axis` (normalized; same frame as [`Sphere::with_axis`]).
+    ///
+    /// # Errors
+    /// As [`Sphere::with_axis`].
+    ///
+    /// # Density
+    /// σ(s, t) = 2π² sin πs, total measure 4π, whatever the axis.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::recipe::Parametrization;
+    /// use areawarp::shapes::SphereRecipe;
+    /// use areawarp::Vec3;
+    /// let r = SphereRecipe::with_axis(Vec3::new(1.0f64, 0.0, 0.0)).unwrap();
+    /// let north = r.phi(&0.0, &0.0);
+    /// assert!((north.x - 1.0).abs() < 1e-15);
+    /// assert!(SphereRecipe::with_axis(Vec3::new(f64::NAN, 0.0, 1.0)).is_err());
+    /// ```
+    pub fn with_axis(axis: Vec3<T>) -> Result<Self, WarpError> {
+        Ok(Self::build(Some(Frame::from_axis(&axis)?)))
+    }
+}
+
+impl<T: Real> Default for SphereRecipe<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real> Parametrization<T> for SphereRecipe<T> {
+    fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
+        let (sin_a, cos_a) = (S::embed(&self.pi) * s).sin_cos();
+        let (sin_b, cos_b) = (S::embed(&self.two_pi) * t).sin_cos();
+        let local = Vec3::new(sin_a.clone() * &cos_b, sin_a * &sin_b, cos_a);
+        match &self.frame {
+            Some(f) => f.to_world(&local),
+            None => local,
+        }
+    }
+
+    fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !p.is_finite() {
+            return None;
+        }
+        let l = match &self.frame {
+            Some(f) => f.to_local(p),
+            None => p.clone(),
+        };
+        let theta = l.x.hypot(&l.y).atan2(&l.z);
+        Some((theta * &self.inv_pi, turns_of(&l.y, &l.x, &self.inv_two_pi)))
+    }
+}
+
+impl<T: Real> AreaDensity<T> for SphereRecipe<T> {}
+
+impl<T: Real> MarginalConditional<T> for SphereRecipe<T> {
+    fn measure(&self) -> T {
+        self.four_pi.clone()
+    }
+    fn marginal_cdf(&self, s: &T) -> T {
+        (self.half_pi.clone() * s).sin().square()
+    }
+    fn marginal_pdf(&self, s: &T) -> T {
+        (self.pi.clone() * s).sin() * &self.half_pi
+    }
+    fn conditional_cdf(&self, _s: &T, t: &T) -> T {
+        t.clone()
+    }
+    fn conditional_pdf(&self, _s: &T, _t: &T) -> T {
+        T::one()
+    }
+    fn marginal_inverse(&self, u: &T) -> Option<T> {
+        let u = clamp_unit(u);
+        let w = T::one() - &u;
+        Some(u.sqrt().atan2(&w.sqrt()) * &self.two_over_pi)
+    }
+    fn conditional_inverse(&self, _s: &T, v: &T) -> Option<T> {
+        Some(v.clone())
+    }
+}
+
+impl<T: Real> Recipe<T> for SphereRecipe<T> {
+    type At<S: Real> = SphereRecipe<S>;
+    fn recast<S: Real>(&self) -> Result<SphereRecipe<S>, WarpError> {
+        Ok(match &self.frame {
+            Some(f) => SphereRecipe::build(Some(f.convert()?)),
+            None => SphereRecipe::new(),
+        })
+    }
+    fn name(&self) -> String {
+        "sphere".to_string()
+    }
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        (p.norm() - &T::one()).abs()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+    use rand::SeedableRng;
+    use rand::rngs::SmallRng;
+
+    fn edges() -> [f64; 8] {
+        [
+            0.0,
+            2f64.powi(-60),
+            1e-12,
+            1e-6,
+            0.5,
+            1.0 - 1e-6,
+            1.0 - 1e-12,
+            1.0,
+        ]
+    }
+
+    fn axes() -> [Vec3<f64>; 4] {
+        [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::new(1.0, 2.0, -3.0),
+            Vec3::new(1e-30, -1e-30, 1e-31),
+        ]
+    }
+
+    fn finite_on_shape<T: Real>() {
+        let tol = T::unit_roundoff() * &T::from_i64(8);
+        let mut warps = vec![Sphere::<T>::new()];
+        for a in axes() {
+            warps.push(Sphere::with_axis(a.convert()).unwrap());
+        }
+        for w in &warps {
+            for &u in &edges() {
+                for &v in &edges() {
+                    let p = w.map(&T::from_f64(u), &T::from_f64(v));
+                    assert!(p.is_finite(), "{u} {v}: {p:?}");
+                    assert!(w.outside_by(&p) <= tol, "{u} {v}: {p:?}");
+                    assert!(w.pdf(&p).is_finite());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sphere_finite_on_shape_f32() {
+        finite_on_shape::<f32>();
+    }
+
+    #[test]
+    fn sphere_finite_on_shape_f64() {
+        finite_on_shape::<f64>();
+    }
+
+    #[test]
+    fn sphere_frames_orthonormal_right_handed() {
+        for a in axes().into_iter().chain([
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, -1.0, 1e-30),
+            Vec3::new(f64::MAX, f64::MAX, -f64::MAX),
+        ]) {
+            let f = Frame::from_axis(&a).unwrap();
+            let n = a.scale(&(1.0 / a.max_abs()));
+            let n = n.scale(&(1.0 / n.norm()));
+            assert!(f.axis.sub(&n).max_abs() <= 4.0 * f64::EPSILON);
+            for (x, y) in [(&f.e1, &f.e2), (&f.e1, &f.axis), (&f.e2, &f.axis)] {
+                assert!(x.dot(y).abs() <= 4.0 * f64::EPSILON);
+            }
+            for x in [&f.e1, &f.e2, &f.axis] {
+                assert!((x.norm() - 1.0).abs() <= 4.0 * f64::EPSILON);
+            }
+            assert!(f.e1.cross(&f.e2).sub(&f.axis).max_abs() <= 4.0 * f64::EPSILON);
+        }
+    }
+
+    #[test]
+    fn sphere_constructor_errors() {
+        assert_eq!(
+            Sphere::with_axis(Vec3::<f64>::zero()).unwrap_err(),
+            WarpError::Degenerate {
+                what: "sphere axis is the zero vector"
+            }
+        );
+        assert!(matches!(
+            Sphere::with_axis(Vec3::new(f64::NAN, 0.0, 1.0)),
+            Err(WarpError::NonFinite { .. })
+        ));
+        assert!(matches!(
+            Sphere::with_axis(Vec3::new(0.0, f32::INFINITY, 1.0)),
+            Err(WarpError::NonFinite { .. })
+        ));
+        assert!(SphereRecipe::with_axis(Vec3::new(0.0, 0.0, -0.0f64)).is_err());
+        assert!(Sphere::with_axis(Vec3::new(0.0, 0.0, 5e-324f64)).is_ok());
+    }
+
+    #[test]
+    fn sphere_poles_follow_axis() {
+        for a in axes() {
+            let w = Sphere::with_axis(a.clone()).unwrap();
+            let n = w.axis();
+            assert!(w.map(&0.0, &0.3).sub(&n).max_abs() <= 4.0 * f64::EPSILON);
+            assert!(w.map(&1.0, &0.3).add(&n).max_abs() <= 4.0 * f64::EPSILON);
+            // The equator is orthogonal to the axis.
+            assert!(w.map(&0.5, &0.3).dot(&n).abs() <= 4.0 * f64::EPSILON);
+        }
+        // Tiny u: sin θ ≈ 2√u to full relative accuracy, at both poles.
+        let s = Sphere::<f64>::new();
+        let u = 2f64.powi(-60);
+        assert!((s.map(&u, &0.0).x / (2.0 * u.sqrt()) - 1.0).abs() < 4.0 * f64::EPSILON);
+        let w = 1e-12;
+        let p = s.map(&(1.0 - w), &0.0);
+        // 1 − (1 − 1e-12) is exact in f64, so the reference uses that value.
+        let d = 1.0 - (1.0 - w);
+        assert!((p.x / (2.0 * (d * (1.0 - d)).sqrt()) - 1.0).abs() < 4.0 * f64::EPSILON);
+    }
+
+    #[test]
+    fn sphere_roundtrip_f64() {
+        for a in axes() {
+            let w = Sphere::with_axis(a.clone()).unwrap();
+            for &u in &edges() {
+                if u == 0.0 || u == 1.0 {
+                    continue; // the poles: v undefined
+                }
+                for &v in &edges() {
+                    if v == 1.0 {
+                        continue;
+                    }
+                    let (u2, v2) = w.inverse(&w.map(&u, &v)).unwrap();
+                    // Axes ±z have exact frames: u is recovered to relative
+                    // accuracy. In a rotated frame the point's own rounding
+                    // (≈ 2^-53 absolute) limits u to absolute accuracy, and v
+                    // to ≈ 2^-53/sin θ, so v is checked away from the poles.
+                    let exact = a.x == 0.0 && a.y == 0.0;
+                    let tol_u = if exact { 1e-12 * u } else { 1e-12 };
+                    assert!((u2 - u).abs() <= tol_u, "{a:?} {u} {v}: {u2}");
+                    if exact || (1e-6..=1.0 - 1e-6).contains(&u) {
+                        // Azimuth is periodic: compare on the circle.
+                        let dv = (v2 - v).abs();
+                        assert!(dv.min(1.0 - dv) <= 1e-10, "{a:?} {u} {v}: {v2}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Near the south pole ψ is steep in u (sin θ ≈ 2√(1 − u)); in a rotated
+    /// frame the inverse goes through 1 − u = ρ²/(2(1 − z)), accurate from
+    /// the point's x, y, and reproduces u exactly.
+    #[test]
+    fn sphere_roundtrip_exact_near_south_pole() {
+        for a in axes() {
+            let w = Sphere::with_axis(a.clone()).unwrap();
+            for u in [1.0 - 1e-6, 1.0 - 1e-12, 1.0 - 2f64.powi(-40)] {
+                for v in [0.0, 0.3, 0.8] {
+                    let (u2, _) = w.inverse(&w.map(&u, &v)).unwrap();
+                    assert_eq!(u2, u, "{a:?} v={v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sphere_inverse_rejects_off_shape() {
+        let w = Sphere::<f64>::new();
+        assert!(w.inverse(&Vec3::new(0.0, 0.0, 1.1)).is_none());
+        assert!(w.inverse(&Vec3::new(0.0, f64::INFINITY, 1.0)).is_none());
+        assert_eq!(w.inverse(&Vec3::new(0.0, 0.0, -1.0)), Some((1.0, 0.0)));
+    }
+
+    #[test]
+    fn sphere_random_axis_is_uniform_enough() {
+        let mut rng = SmallRng::seed_from_u64(42);
+        let n = 4000;
+        let mut mean = Vec3::<f64>::zero();
+        let mut upper = 0;
+        for _ in 0..n {
+            let a = Sphere::<f64>::random_axis(&mut rng);
+            assert!((a.norm() - 1.0).abs() < 1e-15);
+            mean = mean.add(&a);
+            if a.z > 0.0 {
+                upper += 1;
+            }
+        }
+        // Each mean coordinate has standard deviation 1/√(3n) ≈ 0.009.
+        assert!(mean.scale(&(1.0 / n as f64)).max_abs() < 0.05);
+        assert!((upper as f64 / n as f64 - 0.5).abs() < 0.05);
+        let s = Sphere::<f32>::with_random_axis(&mut rng);
+        assert!((s.axis().norm() - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn sphere_family() {
+        let w = Sphere::with_axis(Vec3::new(1.0f32, 2.0, 3.0)).unwrap();
+        assert_eq!(w.name(), "sphere");
+        let g = w.at::<f64>().unwrap();
+        assert!(g.axis().sub(&w.axis().convert()).max_abs() < 1e-7);
+        assert_eq!(
+            Sphere::<f64>::new().at::<f32>().unwrap().axis(),
+            Vec3::new(0.0, 0.0, 1.0)
+        );
+    }
+
+    #[cfg(feature = "mpfr")]
+    mod mpfr {
+        use super::*;
+        use crate::real::{Dual2, Mpfr256};
+        use crate::recipe::{ClosedForm, RecipeWarp};
+
+        type M = Mpfr256;
+
+        fn grid() -> Vec<M> {
+            let one = M::one();
+            vec![
+                M::zero(),
+                M::exp2i(-60),
+                M::from_ratio(1, 2),
+                one.clone() - &M::exp2i(-40),
+                one,
+            ]
+        }
+
+        #[test]
+        fn sphere_recipe_matches_direct_at_256_bits() {
+            let tol = M::exp2i(-230);
+            let axes: [Option<Vec3<M>>; 2] = [
+                None,
+                Some(Vec3::new(M::from_i64(1), M::from_i64(2), M::from_i64(-3))),
+            ];
+            for axis in axes {
+                let (spec, direct) = match axis {
+                    None => (SphereRecipe::<M>::new(), Sphere::<M>::new()),
+                    Some(a) => (
+                        SphereRecipe::with_axis(a.clone()).unwrap(),
+                        Sphere::with_axis(a).unwrap(),
+                    ),
+                };
+                let spec = RecipeWarp::new(spec, ClosedForm, ClosedForm);
+                for u in grid() {
+                    for v in grid() {
+                        let d = spec.map(&u, &v).sub(&direct.map(&u, &v)).max_abs();
+                        assert!(d <= tol, "u={u} v={v}: {d}");
+                    }
+                }
+                assert!((spec.measure() - &direct.measure()).abs() <= tol);
+            }
+        }
+
+        #[test]
+        fn sphere_recipe_sigma_consistent_with_marginal() {
+            let r =
+                SphereRecipe::with_axis(Vec3::new(M::from_i64(2), M::from_i64(-1), M::from_i64(2)))
+                    .unwrap();
+            let tol = M::exp2i(-240);
+            let h = M::exp2i(-70);
+            for (n, d) in [(1, 10), (1, 4), (1, 2), (3, 4), (9, 10)] {
+                let s = M::from_ratio(n, d);
+                let sig0 = r.sigma(&s, &M::zero());
+                for t in [M::from_ratio(1, 3), M::from_ratio(7, 10)] {
+                    assert!((r.sigma(&s, &t) - &sig0).abs() <= tol.clone() * &sig0);
+                }
+                let fm = r.marginal_pdf(&s) * &r.measure();
+                assert!((fm - &sig0).abs() <= tol.clone() * &sig0, "s={s}");
+                let closed = M::pi().square() * &M::from_i64(2) * &(M::pi() * &s).sin();
+                assert!((closed - &sig0).abs() <= tol.clone() * &sig0);
+                let fd = (r.marginal_cdf(&(s.clone() + &h)) - &r.marginal_cdf(&(s.clone() - &h)))
+                    / &(h.clone() * &M::from_i64(2));
+                assert!((fd - &r.marginal_pdf(&s)).abs() <= M::exp2i(-120));
+                let back = r.marginal_cdf(&r.marginal_inverse(&s).unwrap());
+                assert!((back - &s).abs() <= tol);
+            }
+        }
+
+        /// f64 against 256 bits at the extremes (default axis), coordinate by
+        /// coordinate, relative to each coordinate (exact zeros stay zero).
+        #[test]
+        fn sphere_f64_accurate_at_extremes() {
+            let w64 = Sphere::<f64>::new();
+            let wm = w64.at::<M>().unwrap();
+            for u in edges() {
+                for v in edges() {
+                    let a = w64.map(&u, &v);
+                    let b = wm.map(&M::from_f64(u), &M::from_f64(v));
+                    for (x, y) in a.to_array().iter().zip(b.to_array()) {
+                        let err = (M::from_f64(*x) - &y).abs();
+                        let ulps = (err / &y.abs().max(&M::exp2i(-1000))).to_f64() / f64::EPSILON;
+                        assert!(ulps <= 4.0, "u={u} v={v}: {x} vs {y}: {ulps} ulps");
+                    }
+                }
+            }
+            // A rotated axis: absolute accuracy, a few units of roundoff.
+            let w64 = Sphere::with_axis(Vec3::new(1.0, 2.0, -3.0)).unwrap();
+            let wm = w64.at::<M>().unwrap();
+            for u in edges() {
+                for v in edges() {
+                    let a: Vec3<M> = w64.map(&u, &v).convert();
+                    let d = a.sub(&wm.map(&M::from_f64(u), &M::from_f64(v))).max_abs();
+                    assert!(d.to_f64() <= 4.0 * f64::EPSILON, "u={u} v={v}: {d}");
+                }
+            }
+        }
+
+        #[test]
+        fn sphere_jacobian_constant_at_256_bits() {
+            let inner =
+                Sphere::with_axis(Vec3::new(M::from_i64(1), M::from_i64(1), M::from_i64(0)))
+                    .unwrap();
+            let w = inner.at::<Dual2<M>>().unwrap();
+            for (u, v) in [
+                (M::from_ratio(1, 3), M::from_ratio(1, 7)),
+                (M::from_ratio(9, 10), M::from_ratio(5, 6)),
+            ] {
+                let p = w.map(&Dual2::seed_u(u.clone()), &Dual2::seed_v(v.clone()));
+                let pu = Vec3::new(p.x.du.clone(), p.y.du.clone(), p.z.du.clone());
+                let pv = Vec3::new(p.x.dv.clone(), p.y.dv.clone(), p.z.dv.clone());
+                let j = pu.cross(&pv).norm() * &inner.pdf(&inner.map(&u, &v));
+                assert!((j - &M::one()).abs() <= M::exp2i(-240));
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn sphere_prop_on_shape_and_roundtrip(
+            u in 0.0f64..=1.0,
+            v in 0.0f64..=1.0,
+            ax in -1.0f64..1.0,
+            ay in -1.0f64..1.0,
+            az in -1.0f64..1.0,
+        ) {
+            prop_assume!(ax.abs().max(ay.abs()).max(az.abs()) > 1e-3);
+            let w = Sphere::with_axis(Vec3::new(ax, ay, az)).unwrap();
+            let p = w.map(&u, &v);
+            prop_assert!(p.is_finite());
+            prop_assert!(w.outside_by(&p) <= 8.0 * f64::EPSILON);
+            // Height along the axis is 1 − 2u.
+            prop_assert!((p.dot(&w.axis()) - (1.0 - 2.0 * u)).abs() <= 8.0 * f64::EPSILON);
+            let (u2, _v2) = w.inverse(&p).unwrap();
+            prop_assert!((u2 - u).abs() <= 1e-12);
+            let (u3, v3) = Sphere::<f64>::new().inverse(&Sphere::<f64>::new().map(&u, &v)).unwrap();
+            prop_assert!((u3 - u).abs() <= 1e-12 * u);
+            if u > 1e-6 && u < 1.0 - 1e-6 {
+                let dv = (v3 - v).abs();
+                prop_assert!(dv.min(1.0 - dv) <= 1e-10);
+            }
+            let pf = Sphere::with_axis(Vec3::new(ax as f32, ay as f32, az as f32)).unwrap().map(&(u as f32), &(v as f32));
+            prop_assert!(pf.is_finite());
+        }
+    }
+}

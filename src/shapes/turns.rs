@@ -1,0 +1,145 @@
+//! Small numerical helpers shared by the spherical warps: the azimuth
+//! `φ = 2πv` evaluated without losing accuracy at the ends of `[0, 1]`, its
+//! inverse, and the tolerance used to decide that a point lies on a shape.
+
+use crate::real::Real;
+
+/// `(cos 2πv, sin 2πv)`, accurate to a few units of roundoff *relative to
+/// each coordinate*, also for `v` near `1/4, 1/2, 3/4, 1`.
+///
+/// The naive `(2π·v).sin_cos()` rounds the angle `2πv` to an absolute error
+/// of about `2π·u`, so `sin 2πv` for `v = 1 − 1e-12` (true value
+/// `≈ −6.3e-12`) would carry a relative error near `1e-4`. Instead the
+/// angle is measured in quarter turns: with `q = ⌊4v + 1/2⌋` and
+/// `r = 4v − q ∈ [−1/2, 1/2]` (both exact: `4v` is a power-of-two scaling
+/// and `4v − q` is exact by Sterbenz's lemma), `2πv = (π/2)(q + r)`, and
+/// only the reduced angle `(π/2)·r ∈ [−π/4, π/4]` goes through `sin_cos`;
+/// the quadrant `q mod 4` rotates the result exactly.
+///
+/// `half_pi` is the caller's precomputed `π/2`. Dual numbers: `floor` has a
+/// zero derivative, so `r` carries the full derivative `4·dv`.
+pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
+    let four_v = v.clone() * &T::from_i64(4);
+    let q = (four_v.clone() + &T::from_ratio(1, 2)).floor();
+    let r = four_v - &q;
+    let (s, c) = (r * half_pi).sin_cos();
+    // `as i64` saturates and maps NaN to 0; a NaN `v` stays NaN through `r`.
+    match (q.to_f64() as i64).rem_euclid(4) {
+        0 => (c, s),
+        1 => (-s, c),
+        2 => (-c, -s),
+        _ => (s, -c),
+    }
+}
+
+/// The azimuth of `(x, y)` in turns, in `[0, 1)`: `atan2(y, x) / 2π`, shifted
+/// by one turn when negative. Returns `0` at the pole `x = y = 0`.
+///
+/// `inv_two_pi` is the caller's precomputed `1/(2π)`. A tiny negative angle
+/// rounds `1 + angle/2π` to the nearest representable value below one, or to
+/// one itself, which is reported as `0` (the same azimuth).
+pub(crate) fn turns_of<T: Real>(y: &T, x: &T, inv_two_pi: &T) -> T {
+    let mut v = y.atan2(x) * inv_two_pi;
+    if v < T::zero() {
+        v += &T::one();
+    }
+    if v >= T::one() || v == T::zero() {
+        // Also turns −0 into +0.
+        v = T::zero();
+    }
+    v
+}
+
+/// `u` clamped to `[0, 1]`; NaN passes through unchanged (unlike
+/// [`Real::clamp`], which would hide it).
+pub(crate) fn clamp_unit<T: Real>(u: &T) -> T {
+    if *u < T::zero() {
+        T::zero()
+    } else if *u > T::one() {
+        T::one()
+    } else {
+        u.clone()
+    }
+}
+
+/// `x > 0`: `false` for zero, negative values and NaN, so that `!positive(x)`
+/// reads as "zero, negative or NaN".
+pub(crate) fn positive<T: Real>(x: &T) -> bool {
+    *x > T::zero()
+}
+
+/// How far off a shape a point may lie for `inverse` to accept it:
+/// `2^(−p/2)` for a `p`-bit type (`≈ 2.4e-4` in `f32`, `≈ 1.1e-8` in `f64`).
+///
+/// Generous on purpose: directions normalized elsewhere, or pushed through
+/// a few rotations, are "on the sphere" for every practical purpose, and the
+/// inverse re-normalizes before it computes anything.
+pub(crate) fn on_shape_tolerance<T: Real>() -> T {
+    T::exp2i(-((T::precision() / 2) as i32))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn turns_exact_at_quarter_points() {
+        let hp = f64::pi() / 2.0;
+        assert_eq!(cos_sin_turns(&0.0, &hp), (1.0, 0.0));
+        assert_eq!(cos_sin_turns(&0.25, &hp), (-0.0, 1.0));
+        assert_eq!(cos_sin_turns(&0.5, &hp).0, -1.0);
+        assert_eq!(cos_sin_turns(&0.5, &hp).1, 0.0);
+        assert_eq!(cos_sin_turns(&0.75, &hp).1, -1.0);
+        assert_eq!(cos_sin_turns(&1.0, &hp), (1.0, 0.0));
+    }
+
+    #[test]
+    fn turns_relative_accuracy_near_one() {
+        let hp = f64::pi() / 2.0;
+        for d in [1e-6, 1e-12, 2f64.powi(-40)] {
+            let v = 1.0 - d;
+            let (c, s) = cos_sin_turns(&v, &hp);
+            // sin 2πv = −sin(2π(1 − v)), and 1 − v is exact.
+            let want = -(2.0 * std::f64::consts::PI * (1.0 - v)).sin();
+            assert!(
+                (s - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+                "{s} {want}"
+            );
+            let want_c = (2.0 * std::f64::consts::PI * (1.0 - v)).cos();
+            assert!((c - want_c).abs() <= 2.0 * f64::EPSILON);
+        }
+    }
+
+    #[test]
+    fn turns_agree_with_naive_in_the_middle() {
+        let hp = f64::pi() / 2.0;
+        for i in 0..=64 {
+            let v = i as f64 / 64.0 + 0.001;
+            let (c, s) = cos_sin_turns(&v, &hp);
+            let a = 2.0 * std::f64::consts::PI * v;
+            assert!((c - a.cos()).abs() < 1e-14 && (s - a.sin()).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn azimuth_inverse_in_unit_interval() {
+        let i2p = 1.0 / (2.0 * f64::pi());
+        let hp = f64::pi() / 2.0;
+        assert_eq!(turns_of(&0.0, &0.0, &i2p), 0.0);
+        assert!(turns_of(&-0.0, &1.0, &i2p).is_sign_positive());
+        assert_eq!(turns_of(&-1e-300, &1.0, &i2p), 0.0);
+        for v in [0.0, 1e-12, 0.125, 0.25, 0.5, 0.7, 1.0 - 1e-12] {
+            let (c, s) = cos_sin_turns(&v, &hp);
+            let w = turns_of(&s, &c, &i2p);
+            assert!((0.0..1.0).contains(&w));
+            assert!((w - v).abs() <= 1e-15, "{v} {w}");
+        }
+    }
+
+    #[test]
+    fn clamp_keeps_nan() {
+        assert!(clamp_unit(&f64::NAN).is_nan());
+        assert_eq!(clamp_unit(&-1.0), 0.0);
+        assert_eq!(clamp_unit(&2.0f32), 1.0);
+    }
+}

@@ -1,0 +1,206 @@
+//! Every analytic warp through the checking harness:
+//!
+//! - Jacobian `|ψ_u × ψ_v| · pdf = 1` at 256 bits over the extremes grid, to 10⁻⁶⁰;
+//! - `f64` and `f32` evaluation within 16 units of roundoff of the 256-bit map
+//!   over the extremes grid, with no NaN/∞ and no point off the shape;
+//! - the `f64` round trip `ψ⁻¹(ψ(u, v))`;
+//! - a χ² test of 2·10⁵ `f64` samples in shape-intrinsic equal-measure bins;
+//! - the recipe-composed specification of each shape (closed-form inverters)
+//!   passes the same Jacobian check.
+//!
+//! Run with `--nocapture` to see the measured figures.
+#![cfg(feature = "mpfr")]
+
+use areawarp::harness::chi2::{Binning, DiskBins, TriangleBins, ZPhiBins, run_chi_square};
+use areawarp::harness::extremes::{extremes_grid, random_points};
+use areawarp::harness::jacobian::check_jacobian;
+use areawarp::harness::precision::check_precision;
+use areawarp::harness::roundtrip::check_roundtrip;
+use areawarp::recipe::{ClosedForm, RecipeWarp};
+use areawarp::shapes::{
+    ConcentricDisk, Hemisphere, HemisphereRecipe, PhongLobe, PhongRecipe, PlanarTriangle,
+    PolarDisk, PolarDiskRecipe, Sphere, SphereRecipe,
+};
+use areawarp::{Vec3, Warp, WarpFamily};
+
+/// Maximal `|J · pdf − 1|` at 256 bits.
+const JACOBIAN_BOUND: f64 = 1e-60;
+/// Maximal error of the hardware evaluation, in units of roundoff.
+const ULPS_BOUND: f64 = 16.0;
+/// Maximal image error `ψ(ψ⁻¹(p)) − p` of the `f64` round trip, in units of roundoff.
+const IMAGE_ULPS_BOUND: f64 = 16.0;
+/// Samples per χ² test.
+const CHI2_SAMPLES: usize = 200_000;
+/// Overall significance of the χ² tests of this file.
+const SIGNIFICANCE: f64 = 0.01;
+/// Number of χ² tests in this file (Šidák correction).
+const CHI2_TESTS: u32 = 13;
+
+fn jacobian<W: WarpFamily<f64>>(w: &W, label: &str) {
+    let r = check_jacobian(w, &extremes_grid()).unwrap();
+    println!(
+        "{label:<28} jacobian  max |J·pdf − 1| = {:.3e} (nudged {})",
+        r.max_rel_deviation, r.nudged
+    );
+    assert!(r.passes(JACOBIAN_BOUND), "{label}: {r:#?}");
+}
+
+fn precision<W: WarpFamily<f64>>(w: &W, label: &str) {
+    let grid = extremes_grid();
+    let r64 = check_precision::<f64, W>(w, &grid).unwrap();
+    let r32 = check_precision::<f32, W>(w, &grid).unwrap();
+    println!(
+        "{label:<28} precision f64 max {:.2} median {:.3} ulps (outside max {:.2}); f32 max {:.2} median {:.3} ulps (outside max {:.2})",
+        r64.max_ulps,
+        r64.median_ulps,
+        r64.max_outside_ulps,
+        r32.max_ulps,
+        r32.median_ulps,
+        r32.max_outside_ulps
+    );
+    assert!(r64.passes(ULPS_BOUND), "{label}: {r64:#?}");
+    assert!(r32.passes(ULPS_BOUND), "{label}: {r32:#?}");
+}
+
+/// The round trip in `f64`: over the extremes grid every inverse must exist
+/// and reproduce the point (image error); over random interior points the
+/// parameters must come back to `param_bound`.
+fn roundtrip<W: WarpFamily<f64>>(w: &W, label: &str, param_bound: f64) {
+    let edges = check_roundtrip::<f64, W>(w, &extremes_grid()).unwrap();
+    let interior = check_roundtrip::<f64, W>(w, &random_points(256, 11)).unwrap();
+    println!(
+        "{label:<28} roundtrip f64 extremes: image max {:.2} ulps, param max {:.2e}; random: param max {:.2e} median {:.2e}",
+        edges.max_image_ulps, edges.max_error, interior.max_error, interior.median_error
+    );
+    assert_eq!(edges.failures, 0, "{label}: {edges:#?}");
+    assert!(edges.max_image_ulps <= IMAGE_ULPS_BOUND, "{label}: {edges:#?}");
+    assert!(interior.passes(param_bound, IMAGE_ULPS_BOUND), "{label}: {interior:#?}");
+}
+
+fn chi2<W: Warp<f64>>(w: &W, bins: &impl Binning, seed: u64, label: &str) {
+    let o = run_chi_square(w, bins, CHI2_SAMPLES, seed, SIGNIFICANCE, CHI2_TESTS);
+    println!(
+        "{label:<28} chi2      statistic {:.1}, dof {}, p = {:.3}",
+        o.statistic, o.dof, o.p_value
+    );
+    assert!(o.passed, "{label}: {o:#?}");
+}
+
+fn triangles() -> Vec<[Vec3<f64>; 3]> {
+    vec![
+        [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ],
+        // Oblique, away from the origin, not axis-aligned.
+        [
+            Vec3::new(0.1, -2.0, 3.0),
+            Vec3::new(4.0, 0.5, 1.0),
+            Vec3::new(-1.5, 2.0, 0.25),
+        ],
+        // Long and thin (aspect ratio ~100).
+        [
+            Vec3::new(-50.0, 0.0, 0.0),
+            Vec3::new(50.0, 0.0, 1.0),
+            Vec3::new(0.0, 1.0, 0.5),
+        ],
+    ]
+}
+
+#[test]
+fn planar_triangle() {
+    for (i, [a, b, c]) in triangles().into_iter().enumerate() {
+        let label = format!("triangle #{i}");
+        let w = PlanarTriangle::new(a.clone(), b.clone(), c.clone()).unwrap();
+        jacobian(&w, &label);
+        precision(&w, &label);
+        roundtrip(&w, &label, 1e-12);
+        // Bins from a relabelled vertex order: independent of the map's corners.
+        let bins = TriangleBins::new(c, a, b, 14).unwrap();
+        chi2(&w, &bins, 100 + i as u64, &label);
+        jacobian(
+            &RecipeWarp::new(w.recipe(), ClosedForm, ClosedForm),
+            &format!("{label} recipe"),
+        );
+    }
+}
+
+#[test]
+fn polar_disk() {
+    let w = PolarDisk::<f64>::new();
+    jacobian(&w, "polar disk");
+    precision(&w, "polar disk");
+    roundtrip(&w, "polar disk", 1e-12);
+    chi2(&w, &DiskBins::unit(10, 20).unwrap(), 1, "polar disk");
+    jacobian(
+        &RecipeWarp::new(PolarDiskRecipe::<f64>::new(), ClosedForm, ClosedForm),
+        "polar disk recipe",
+    );
+}
+
+#[test]
+fn concentric_disk() {
+    let w = ConcentricDisk::<f64>::new();
+    jacobian(&w, "concentric disk");
+    precision(&w, "concentric disk");
+    roundtrip(&w, "concentric disk", 1e-12);
+    chi2(&w, &DiskBins::unit(10, 20).unwrap(), 2, "concentric disk");
+}
+
+#[test]
+fn hemisphere() {
+    let w = Hemisphere::<f64>::new();
+    jacobian(&w, "hemisphere");
+    precision(&w, "hemisphere");
+    roundtrip(&w, "hemisphere", 1e-12);
+    chi2(&w, &ZPhiBins::hemisphere(10, 20).unwrap(), 3, "hemisphere");
+    jacobian(
+        &RecipeWarp::new(HemisphereRecipe::<f64>::new(), ClosedForm, ClosedForm),
+        "hemisphere recipe",
+    );
+}
+
+#[test]
+fn phong_lobes() {
+    for (i, k) in [0.0, 1.0, 1000.0, 1e6].into_iter().enumerate() {
+        let label = format!("phong k = {k}");
+        let w = PhongLobe::new(k).unwrap();
+        jacobian(&w, &label);
+        precision(&w, &label);
+        roundtrip(&w, &label, 1e-12);
+        chi2(&w, &ZPhiBins::phong(k, 10, 20).unwrap(), 10 + i as u64, &label);
+        jacobian(
+            &RecipeWarp::new(PhongRecipe::new(k).unwrap(), ClosedForm, ClosedForm),
+            &format!("{label} recipe"),
+        );
+    }
+}
+
+#[test]
+fn sphere() {
+    let w = Sphere::<f64>::new();
+    jacobian(&w, "sphere");
+    precision(&w, "sphere");
+    roundtrip(&w, "sphere", 1e-12);
+    chi2(&w, &ZPhiBins::sphere(10, 20).unwrap(), 4, "sphere");
+    // Bins about a tilted axis: independent of the map's own z and φ.
+    let tilted = ZPhiBins::sphere(10, 20)
+        .unwrap()
+        .with_axis(Vec3::new(0.3, -0.5, 0.8))
+        .unwrap();
+    chi2(&w, &tilted, 5, "sphere, tilted bins");
+    jacobian(
+        &RecipeWarp::new(SphereRecipe::<f64>::new(), ClosedForm, ClosedForm),
+        "sphere recipe",
+    );
+}
+
+#[test]
+fn sphere_with_axis() {
+    let w = Sphere::with_axis(Vec3::new(1.0, 2.0, -2.0)).unwrap();
+    jacobian(&w, "sphere about (1,2,-2)");
+    precision(&w, "sphere about (1,2,-2)");
+    roundtrip(&w, "sphere about (1,2,-2)", 1e-12);
+    chi2(&w, &ZPhiBins::sphere(10, 20).unwrap(), 6, "sphere about (1,2,-2)");
+}
