@@ -129,9 +129,11 @@ impl<T: Real> Vec3<T> {
     }
     /// `self / |self|`, or `None` for the zero vector or non-finite input.
     pub fn normalized(&self) -> Option<Self> {
+        // Divide (rather than multiply by 1/n, which overflows for subnormal
+        // vectors); `norm` itself neither overflows nor underflows.
         let n = self.norm();
         if n > T::zero() && n.is_finite() {
-            Some(self.scale(&(T::one() / &n)))
+            Some(Vec3::new(self.x.clone() / &n, self.y.clone() / &n, self.z.clone() / &n))
         } else {
             None
         }

@@ -5,6 +5,7 @@
 
 use rug::Float;
 use rug::float::Constant;
+use rug::ops::Pow;
 use std::io::Write;
 use std::process::{Command, Stdio};
 

@@ -774,3 +774,41 @@ fn bisection_and_polished_cubic_over_duals_give_implicit_derivative() {
         "Newton (cubic start)",
     );
 }
+
+#[cfg(feature = "mpfr")]
+#[test]
+fn zero_density_at_the_root_gives_a_non_finite_derivative() {
+    use areawarp::real::{Dual2, Mpfr256};
+    type D = Dual2<Mpfr256>;
+    // F = x² at y = 0 and sin²(πx/2) at y = 0 and 1: F'(x) = 0 there and
+    // dx/dy = ∞. The value must be exact, the derivative non-finite (not a
+    // silent 0, which would fake a degenerate Jacobian).
+    let y0 = D::seed_u(Mpfr256::zero());
+    let y1 = D::seed_u(Mpfr256::one());
+    let cases: Vec<(Inversion<D>, Mpfr256)> = vec![
+        (
+            Newton::default().invert(&PowCdf { n: 2 }, &y0),
+            Mpfr256::zero(),
+        ),
+        (
+            Bisection::default().invert(&PowCdf { n: 2 }, &y0),
+            Mpfr256::zero(),
+        ),
+        (Newton::default().invert(&Sin2Cdf, &y0), Mpfr256::zero()),
+        (Newton::default().invert(&Sin2Cdf, &y1), Mpfr256::one()),
+        (
+            VandermondeCubic { polish: 1 }.invert(&Sin2Cdf, &y1),
+            Mpfr256::one(),
+        ),
+    ];
+    for (inv, x) in cases {
+        assert!(inv.x.re == x, "{inv:?}");
+        // (cos(π/2) rounds to ~1e-77, not 0, at 256 bits: then the
+        // derivative is merely astronomically large.)
+        let du = inv.x.du.clone();
+        assert!(!du.is_finite() || du.abs() > Mpfr256::exp2i(200), "{inv:?}");
+    }
+    // In plain f64 the same paths return the exact ends.
+    assert_eq!(Newton::default().invert(&PowCdf { n: 2 }, &0.0).x, 0.0);
+    assert_eq!(Newton::default().invert(&Sin2Cdf, &1.0).x, 1.0);
+}

@@ -558,11 +558,17 @@ pub fn expected_counts(binning: &impl Binning, samples: usize) -> Vec<f64> {
 /// if any sample fell outside every cell.
 ///
 /// # Example
-/// ```ignore
+/// ```
 /// use areawarp::harness::chi2::{run_chi_square, ZPhiBins};
-/// let bins = ZPhiBins::hemisphere(16, 32)?;
-/// let outcome = run_chi_square(&my_hemisphere_warp, &bins, 200_000, 1, 0.01, 1);
+/// use areawarp::shapes::PhongLobe;
+///
+/// let cosine = PhongLobe::new(1.0)?;
+/// let outcome = run_chi_square(&cosine, &ZPhiBins::phong(1.0, 8, 16)?, 20_000, 1, 0.01, 1);
 /// assert!(outcome.passed, "{outcome:?}");
+/// // The same samples are not uniform on the hemisphere.
+/// let wrong = run_chi_square(&cosine, &ZPhiBins::hemisphere(8, 16)?, 20_000, 1, 0.01, 1);
+/// assert!(!wrong.passed);
+/// # Ok::<(), areawarp::WarpError>(())
 /// ```
 pub fn run_chi_square<W: Warp<f64>>(
     w: &W,

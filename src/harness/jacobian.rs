@@ -70,10 +70,14 @@ impl JacobianReport {
 /// The error of [`WarpFamily::at`] if the warp cannot be rebuilt at 256 bits.
 ///
 /// # Example
-/// ```ignore
+/// ```
 /// use areawarp::harness::{extremes::extremes_grid, jacobian::check_jacobian};
-/// let report = check_jacobian(&my_warp, &extremes_grid())?;
+/// use areawarp::shapes::PolarDisk;
+///
+/// let report = check_jacobian(&PolarDisk::<f64>::new(), &extremes_grid())?;
 /// assert!(report.passes(1e-60), "{report:?}");
+/// assert_eq!(report.nudged, 8); // the edge u = 0, where √u is singular
+/// # Ok::<(), areawarp::WarpError>(())
 /// ```
 #[cfg(feature = "mpfr")]
 pub fn check_jacobian<W: WarpFamily<f64>>(
@@ -93,6 +97,16 @@ pub fn check_jacobian<W: WarpFamily<f64>>(
 ///
 /// # Errors
 /// The error of [`WarpFamily::at`] if the warp cannot be rebuilt over `Dual2<R>`.
+///
+/// # Example
+/// ```
+/// use areawarp::harness::{extremes::random_points, jacobian::check_jacobian_in};
+/// use areawarp::shapes::Sphere;
+///
+/// let report = check_jacobian_in::<f64, _>(&Sphere::<f64>::new(), &random_points(100, 1))?;
+/// assert!(report.passes(1e-13), "{report:?}");
+/// # Ok::<(), areawarp::WarpError>(())
+/// ```
 pub fn check_jacobian_in<R: Real, W: WarpFamily<f64>>(
     w: &W,
     points: &[(f64, f64)],

@@ -14,6 +14,7 @@
 //! | [`jacobian::check_jacobian`] | the map is area-preserving: `|ψ_u × ψ_v| · pdf(ψ) = 1` at every point, with exact partials at 256 bits | `mpfr` ([`jacobian::check_jacobian_in`] without) |
 //! | [`precision::check_precision`] | the `f32`/`f64` evaluation stays within a few units of roundoff of the 256-bit map, finite and on the shape | `mpfr` ([`precision::check_precision_against`] without) |
 //! | [`roundtrip::check_roundtrip`] | [`Warp::inverse`](crate::warp::Warp::inverse) inverts the map | — |
+//! | [`sensitivity::sensitivity`] | the map's own condition κ (move of the exact map under a one-ulp input change), for the criterion error ≤ 16·max(u_T, κ) | `mpfr` ([`sensitivity::sensitivities_in`] without) |
 //! | [`chi2::run_chi_square`] | the samples the `f64` code actually produces follow the claimed density (statistically, in shape-intrinsic bins) | — |
 //!
 //! What each check proves, and what it does not:
@@ -42,18 +43,38 @@
 //!   hard failure for samples outside the shape. It detects global errors
 //!   (wrong coverage, wrong weight) but only statistically, to the
 //!   resolution of the bins and the sample count.
+//! - **Sensitivity** ([`sensitivity`]). Not a pass/fail check of the map but
+//!   the yardstick for the precision check where the problem itself is
+//!   ill-conditioned (e.g. `√(1 − u)` at `u = 1 − 2^-53`): a map is as
+//!   accurate as its inputs allow when its error is within
+//!   [`sensitivity::accuracy_bound`] of the condition κ.
 //!
-//! A warp that passes all four at the extremes grid is area-preserving to
+//! A warp that passes the first four at the extremes grid is area-preserving to
 //! 256-bit accuracy, accurate in the hardware precisions, invertible and
 //! samples its target distribution.
 //!
 //! # Example
-//! ```ignore
-//! use areawarp::harness::{extremes::extremes_grid, jacobian::check_jacobian,
-//!                         precision::check_precision};
+//! ```
+//! use areawarp::harness::chi2::{run_chi_square, ZPhiBins};
+//! use areawarp::harness::extremes::extremes_grid;
+//! use areawarp::harness::roundtrip::check_roundtrip;
+//! use areawarp::shapes::Hemisphere;
+//!
+//! let warp = Hemisphere::<f64>::new();
 //! let grid = extremes_grid();
-//! assert!(check_jacobian(&warp, &grid)?.passes(1e-60));
-//! assert!(check_precision::<f32, _>(&warp, &grid)?.passes(16.0));
+//! #[cfg(feature = "mpfr")]
+//! {
+//!     use areawarp::harness::{jacobian::check_jacobian, precision::check_precision};
+//!     let jacobian = check_jacobian(&warp, &grid)?;
+//!     assert!(jacobian.passes(1e-60), "{jacobian:?}");
+//!     let f32_error = check_precision::<f32, _>(&warp, &grid)?;
+//!     assert!(f32_error.passes(16.0), "{f32_error:?}");
+//! }
+//! let round_trip = check_roundtrip::<f64, _>(&warp, &grid)?;
+//! assert_eq!(round_trip.failures, 0);
+//! let chi2 = run_chi_square(&warp, &ZPhiBins::hemisphere(8, 16)?, 20_000, 1, 0.01, 1);
+//! assert!(chi2.passed, "{chi2:?}");
+//! # Ok::<(), areawarp::WarpError>(())
 //! ```
 
 pub mod chi2;
@@ -61,6 +82,7 @@ pub mod extremes;
 pub mod jacobian;
 pub mod precision;
 pub mod roundtrip;
+pub mod sensitivity;
 
 #[cfg(test)]
 pub(crate) mod test_warps;

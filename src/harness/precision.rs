@@ -81,10 +81,13 @@ impl PrecisionReport {
 /// 256 bits.
 ///
 /// # Example
-/// ```ignore
+/// ```
 /// use areawarp::harness::{extremes::extremes_grid, precision::check_precision};
-/// let report = check_precision::<f32, _>(&my_warp, &extremes_grid())?;
+/// use areawarp::shapes::Sphere;
+///
+/// let report = check_precision::<f32, _>(&Sphere::<f64>::new(), &extremes_grid())?;
 /// assert!(report.passes(16.0), "{report:?}");
+/// # Ok::<(), areawarp::WarpError>(())
 /// ```
 #[cfg(feature = "mpfr")]
 pub fn check_precision<T: Real, W: WarpFamily<f64>>(
@@ -99,6 +102,17 @@ pub fn check_precision<T: Real, W: WarpFamily<f64>>(
 ///
 /// # Errors
 /// The error of [`WarpFamily::at`] if the warp cannot be rebuilt in `T` or `R`.
+///
+/// # Example
+/// ```
+/// use areawarp::harness::{extremes::extremes_grid, precision::check_precision_against};
+/// use areawarp::shapes::ConcentricDisk;
+///
+/// let w = ConcentricDisk::<f64>::new();
+/// let report = check_precision_against::<f32, f64, _>(&w, &extremes_grid())?;
+/// assert!(report.passes(16.0), "{report:?}");
+/// # Ok::<(), areawarp::WarpError>(())
+/// ```
 pub fn check_precision_against<T: Real, R: Real, W: WarpFamily<f64>>(
     w: &W,
     points: &[(f64, f64)],

@@ -65,6 +65,19 @@ impl RoundTripReport {
 ///
 /// # Errors
 /// The error of [`WarpFamily::at`] if the warp cannot be rebuilt in `T`.
+///
+/// # Example
+/// ```
+/// use areawarp::harness::{extremes::extremes_grid, roundtrip::check_roundtrip};
+/// use areawarp::shapes::PolarDisk;
+///
+/// let report = check_roundtrip::<f64, _>(&PolarDisk::<f64>::new(), &extremes_grid())?;
+/// assert_eq!(report.failures, 0);
+/// assert!(report.max_image_ulps <= 16.0, "{report:?}");
+/// // (0, v) all map to the centre: v cannot come back, the image does.
+/// assert!(report.max_error > 0.5);
+/// # Ok::<(), areawarp::WarpError>(())
+/// ```
 pub fn check_roundtrip<T: Real, W: WarpFamily<f64>>(
     w: &W,
     points: &[(f64, f64)],

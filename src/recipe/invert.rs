@@ -22,7 +22,9 @@
 //! numbers ([`Dual2`](crate::real::Dual2)) with `y` seeded, such an update
 //! carries dx/dy = 1/F'(x) + O(F(x) − y) whatever the derivative of the
 //! previous iterate, so the composed warp has exact partials even where the
-//! inversion is numerical.
+//! inversion is numerical. Where F'(x) = 0 at the returned x (dx/dy = ∞,
+//! e.g. y = 0 at a pole where F ~ x²) the derivative parts come out
+//! non-finite rather than zero, with the value unchanged.
 
 use super::MarginalConditional;
 use crate::real::Real;
@@ -174,8 +176,9 @@ impl Inverter for ClosedForm {
 /// Stops when the last step, or the bracket, is below
 /// [`Newton::tolerance`], when F(x) = y exactly, when the iterate stops
 /// moving, or after [`Newton::max_iterations`] updates. `y ≤ 0` (or NaN)
-/// starts at `lo` and `y ≥ 1` at `hi`, where F is 0 and 1, so the ends cost
-/// one evaluation. The returned x is always inside the domain.
+/// returns `lo` and `y ≥ 1` returns `hi` without iterating (F is 0 and 1
+/// there by the [`Cdf1`] contract; over dual numbers they carry 1/F' too).
+/// The returned x is always inside the domain.
 ///
 /// # Derivatives
 /// If the iteration stopped after a bisection (or at an exact root), one
@@ -270,6 +273,14 @@ fn finish_with_newton<T: Real, C: Cdf1<T> + ?Sized>(
     }
     let d = cdf.pdf(x);
     let Some(n) = newton_point(x, f, &d) else {
+        if *f == T::zero() && d == T::zero() {
+            // An exact root where F' = 0 (a pole of the parametrization,
+            // F ~ x² at the end of the domain): dx/dy is infinite. Adding
+            // √|F(x) − y| leaves the value unchanged (√0 = 0) and, over dual
+            // numbers, makes the derivatives non-finite instead of silently
+            // zero, so that a Jacobian check sees the singularity.
+            *x = x.clone() + &f.abs().sqrt();
+        }
         return;
     };
     let floor = if converged {
@@ -285,6 +296,55 @@ fn finish_with_newton<T: Real, C: Cdf1<T> + ?Sized>(
             *f = cdf.cdf(&n) - y;
         }
         *x = n;
+    }
+}
+
+/// The inverse at an end of the domain, for `y ≤ 0` (or NaN: `lo`, with
+/// `end_value = 0`) and `y ≥ 1` (`hi`, `end_value = 1`), without iterating.
+///
+/// By the [`Cdf1`] contract F(end) = end_value exactly, so the residual is
+/// f = end_value − y, with no rounding from evaluating F. One Newton update
+/// end − f/F'(end), kept only if it stays in the domain (it does exactly when
+/// y = end_value: its value is then `end` itself), gives dual numbers the
+/// derivative 1/F'(end); where F'(end) = 0 they get a non-finite one (see
+/// the module docs) and the value stays `end`.
+fn invert_at_end<T: Real, C: Cdf1<T> + ?Sized>(
+    cdf: &C,
+    y: &T,
+    end: T,
+    end_value: T,
+) -> Inversion<T> {
+    let (dlo, dhi) = cdf.domain();
+    let f = end_value - y;
+    let d = cdf.pdf(&end);
+    let mut x = end;
+    match newton_point(&x, &f, &d) {
+        Some(n) if within(&n, &dlo, &dhi) => x = n,
+        Some(_) => {}
+        None => {
+            if f == T::zero() && d == T::zero() {
+                x = x.clone() + &f.abs().sqrt();
+            }
+        }
+    }
+    let residual = (cdf.cdf(&x) - y).abs();
+    Inversion {
+        x,
+        iterations: 0,
+        converged: !y.is_nan(),
+        residual,
+    }
+}
+
+/// `Some(inversion)` when `y` is at or beyond an end of [0, 1] (or NaN).
+fn end_case<T: Real, C: Cdf1<T> + ?Sized>(cdf: &C, y: &T) -> Option<Inversion<T>> {
+    let (lo, hi) = cdf.domain();
+    if y.is_nan() || *y <= T::zero() {
+        Some(invert_at_end(cdf, y, lo, T::zero()))
+    } else if *y >= T::one() {
+        Some(invert_at_end(cdf, y, hi, T::one()))
+    } else {
+        None
     }
 }
 
@@ -359,13 +419,10 @@ impl Newton {
 
 impl Inverter for Newton {
     fn invert<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T) -> Inversion<T> {
+        if let Some(end) = end_case(cdf, y) {
+            return end;
+        }
         let (lo, hi) = cdf.domain();
-        if y.is_nan() || *y <= T::zero() {
-            return self.solve_in(cdf, y, lo.clone(), lo, hi);
-        }
-        if *y >= T::one() {
-            return self.solve_in(cdf, y, hi.clone(), lo, hi);
-        }
         match self.start.unwrap_or(Start::Midpoint) {
             Start::Midpoint => {
                 let x0 = (lo.clone() + &hi) / T::from_i64(2);
@@ -387,7 +444,8 @@ impl Inverter for Newton {
 
 /// Bisection until the bracket is below the tolerance.
 ///
-/// `y ≤ 0` (or NaN) returns `lo` and `y ≥ 1` returns `hi`. Otherwise the root
+/// `y ≤ 0` (or NaN) returns `lo` and `y ≥ 1` returns `hi`, as [`Newton`]
+/// does. Otherwise the root
 /// is kept in `[lo, hi]` until `hi − lo` is below [`Bisection::tolerance`]
 /// (k · u · max(|lo|, |hi|) for [`Tolerance::Ulps`]) or the two ends are
 /// adjacent floats. x is then the midpoint, moved by one Newton update (not
@@ -415,17 +473,15 @@ impl Default for Bisection {
 
 impl Inverter for Bisection {
     fn invert<T: Real, C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T) -> Inversion<T> {
+        if let Some(end) = end_case(cdf, y) {
+            return end;
+        }
         let (dlo, dhi) = cdf.domain();
         let (mut lo, mut hi) = (dlo.clone(), dhi.clone());
         let two = T::from_i64(2);
         let zero = T::zero();
         let mut iterations = 0;
         let mut converged = false;
-        if y.is_nan() || *y <= T::zero() {
-            hi = lo.clone();
-        } else if *y >= T::one() {
-            lo = hi.clone();
-        }
         loop {
             let size = lo.abs().max(&hi.abs());
             if hi.clone() - &lo <= self.tolerance.bound(&size, &zero) {
@@ -564,7 +620,8 @@ impl<T: Real> FittedCubic<T> {
     /// step never makes the residual worse, even from a poor cubic guess on a
     /// steep or flat CDF (where it may then stall: prefer [`Newton`] with
     /// [`Start::Cubic`] there). Stops early at an exact root or where F is
-    /// NaN. With `polish > 0`, an x that did not come from a Newton update
+    /// NaN. With `polish > 0`, `y ≤ 0` and `y ≥ 1` return the ends as
+    /// [`Newton`] does, and an x that did not come from a Newton update
     /// gets one more if that moves it by at most 4 units of roundoff (as in
     /// [`Newton`]; the residual may then change at the rounding level,
     /// ≤ 4u|y|), so that dual numbers carry dx/dy = 1/F'(x); the bare cubic
@@ -575,6 +632,11 @@ impl<T: Real> FittedCubic<T> {
     /// the residual reached the rounding level, |F(x) − y| ≤ 4u|y| (always
     /// `false` without polish: the bare cubic tests nothing).
     pub fn invert<C: Cdf1<T> + ?Sized>(&self, cdf: &C, y: &T, polish: u32) -> Inversion<T> {
+        if polish > 0
+            && let Some(end) = end_case(cdf, y)
+        {
+            return end;
+        }
         let (dlo, dhi) = cdf.domain();
         let (mut lo, mut hi) = self.bracket(y);
         let two = T::from_i64(2);

@@ -1,15 +1,11 @@
 //! Shirley–Chiu concentric map of the unit square onto the unit disk.
 //! Derivation and numerical choices: `docs/disk.md`.
 
+use super::turns::clamp01;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec2;
 use crate::warp::{Warp, WarpFamily};
-
-/// `x` clamped to `[0, 1]` (NaN becomes 0).
-fn clamp01<T: Real>(x: &T) -> T {
-    x.clamp(&T::zero(), &T::one())
-}
 
 /// The concentric map of Shirley and Chiu (1997): concentric squares of
 /// `[−1, 1]²` (after `(a, b) = (2u − 1, 2v − 1)`) go to concentric circles,

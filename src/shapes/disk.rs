@@ -1,59 +1,12 @@
 //! Uniform sampling of the unit disk in polar coordinates: Arvo (2001),
 //! §1.3.2, eq. (1.23). Derivation and numerical choices: `docs/disk.md`.
 
+use super::turns::{clamp01, cos_sin_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::{Vec2, Vec3};
 use crate::warp::{Warp, WarpFamily};
-
-/// `x` clamped to `[0, 1]` (NaN becomes 0).
-fn clamp01<T: Real>(x: &T) -> T {
-    x.clamp(&T::zero(), &T::one())
-}
-
-/// `(cos 2πv, sin 2πv)` with exact argument reduction for `v ∈ [0, 1]`.
-///
-/// `v = k/4 + w` with `k` the nearest integer to `4v` and `|w| ≤ 1/8`; the
-/// subtraction `v − k/4` is exact (Sterbenz), the kernel angle `2πw` has
-/// `|2πw| ≤ π/4` and a relative error of two roundings, and the quarter
-/// turns `k` are applied exactly by swapping and negating. Both coordinates
-/// are therefore accurate *relative to their own size*, also where they
-/// vanish (v near 0, 1/4, 1/2, 3/4, 1): v = 1 − 2⁻⁴⁰ gives the angle
-/// −2π·2⁻⁴⁰, not 2π(1 − 2⁻⁴⁰) rounded. Outside `[0, 1]` the angle is used
-/// unreduced.
-fn cos_sin_turns<S: Real>(v: &S, two_pi: &S) -> (S, S) {
-    let eight_v = v.clone() * S::from_i64(8);
-    let (k, w) = if v.is_nan() || *v < S::zero() || *v > S::one() || eight_v < S::one() {
-        (0, v.clone())
-    } else if eight_v < S::from_i64(3) {
-        (1, v.clone() - S::from_ratio(1, 4))
-    } else if eight_v < S::from_i64(5) {
-        (2, v.clone() - S::from_ratio(1, 2))
-    } else if eight_v < S::from_i64(7) {
-        (3, v.clone() - S::from_ratio(3, 4))
-    } else {
-        (0, v.clone() - S::one())
-    };
-    let (s, c) = (two_pi.clone() * &w).sin_cos();
-    match k {
-        0 => (c, s),
-        1 => (-s, c),
-        2 => (-c, -s),
-        _ => (s, -c),
-    }
-}
-
-/// `(r², v)` of a point given in polar form, `v = atan2(y, x)/(2π)` mapped to
-/// `[0, 1)` (a result rounding to 1 is replaced by `1 − u`, the largest value
-/// below 1; `−0` becomes `+0`).
-fn polar_turns<T: Real>(x: &T, y: &T, inv_two_pi: &T) -> T {
-    let mut v = y.atan2(x) * inv_two_pi;
-    if v < T::zero() {
-        v += &T::one();
-    }
-    (v + &T::zero()).min(&(T::one() - &T::unit_roundoff()))
-}
 
 /// The polar area-preserving map of the unit disk (Arvo 2001, eq. 1.23):
 ///
@@ -89,6 +42,7 @@ fn polar_turns<T: Real>(x: &T, y: &T, inv_two_pi: &T) -> T {
 #[derive(Clone, Debug)]
 pub struct PolarDisk<T> {
     two_pi: T,
+    half_pi: T,
     inv_two_pi: T,
     pi: T,
     inv_pi: T,
@@ -103,6 +57,7 @@ impl<T: Real> PolarDisk<T> {
         let two_pi = pi.clone() * T::from_i64(2);
         PolarDisk {
             inv_two_pi: T::one() / &two_pi,
+            half_pi: pi.clone() / T::from_i64(2),
             inv_pi: T::one() / &pi,
             two_pi,
             pi,
@@ -128,7 +83,7 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
     /// √u·(cos 2πv, sin 2πv); `u`, `v` clamped to `[0, 1]` (NaN counts as 0).
     fn map(&self, u: &T, v: &T) -> Vec2<T> {
         let r = clamp01(u).sqrt();
-        let (c, s) = cos_sin_turns(&clamp01(v), &self.two_pi);
+        let (c, s) = cos_sin_turns(&clamp01(v), &self.half_pi);
         Vec2::new(r.clone() * &c, r * &s)
     }
 
@@ -149,7 +104,7 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
             return None;
         }
         let u = (p.x.square() + &p.y.square()).min(&T::one());
-        Some((u, polar_turns(&p.x, &p.y, &self.inv_two_pi)))
+        Some((u, turns_of(&p.y, &p.x, &self.inv_two_pi)))
     }
 
     /// `max(0, |p| − 1)`; non-finite `p`: [`Real::max_value`].
@@ -218,7 +173,7 @@ impl<T: Real> Parametrization<T> for PolarDiskRecipe<T> {
     /// φ(s, t) = s·(cos 2πt, sin 2πt, 0), with the reduced evaluation of the
     /// angle of [`PolarDisk`].
     fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
-        let (c, sn) = cos_sin_turns(t, &S::embed(&self.disk.two_pi));
+        let (c, sn) = cos_sin_turns(t, &S::embed(&self.disk.half_pi));
         Vec3::new(s.clone() * &c, s.clone() * &sn, S::zero())
     }
 
@@ -228,7 +183,7 @@ impl<T: Real> Parametrization<T> for PolarDiskRecipe<T> {
             return None;
         }
         let s = p.x.hypot(&p.y);
-        Some((s, polar_turns(&p.x, &p.y, &self.disk.inv_two_pi)))
+        Some((s, turns_of(&p.y, &p.x, &self.disk.inv_two_pi)))
     }
 }
 

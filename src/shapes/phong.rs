@@ -284,6 +284,12 @@ impl<T: Real> WarpFamily<T> for PhongLobe<T> {
 /// `ln sin(πs/2) = ln_1p(−2 sin²(π(1−s)/4))` for `s > 1/2`, which keeps its
 /// digits near the pole for huge `k`.
 ///
+/// Near the pole (`s → 1`, which the orientation of eq. 1.28 forces) the
+/// specification is limited by the absolute resolution of the float `s`:
+/// composed at 256 bits, its Jacobian deviates from constant by
+/// ≈ 2^-256/θ at an angle θ from the pole (≈ 10⁻⁵⁸ at θ ≈ 2⁻⁶⁴), where
+/// [`PhongLobe`], which never forms `s`, stays at the 2^-256 level.
+///
 /// # Density
 /// Weighted by cos^k θ: density `(k+1)/(2π) · cos^k θ` per steradian, total
 /// weighted measure `2π/(k+1)`.

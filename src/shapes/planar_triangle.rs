@@ -1,16 +1,12 @@
 //! Uniform sampling of a planar triangle in space: Arvo (2001), §1.3.1,
 //! eq. (1.20). Derivation and numerical choices: `docs/planar-triangle.md`.
 
+use super::turns::clamp01;
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
 use crate::warp::{Warp, WarpFamily};
-
-/// `x` clamped to `[0, 1]` (NaN becomes 0).
-fn clamp01<T: Real>(x: &T) -> T {
-    x.clamp(&T::zero(), &T::one())
-}
 
 /// Euclidean length computed as `m·sqrt(Σ (x_i/m)²)` with `m` the largest
 /// absolute coordinate: free of overflow and underflow, and, unlike

@@ -339,30 +339,40 @@ impl<T: Real> WarpFamily<T> for Sphere<T> {
     }
 }
 
-/// The recipe specification of [`Sphere`], steps 1–4, in spherical
-/// coordinates about the cylinder axis:
+/// The recipe specification of [`Sphere`] (Shao & Badler 1996), steps 1–4,
+/// with step 1 the inverse axial projection of the circumscribed cylinder:
 ///
-/// 1. φ(s, t) = (sin πs cos 2πt, sin πs sin 2πt, cos πs) in the frame of the
-///    axis (`s` the polar angle in units of π, `t` the azimuth in turns);
-/// 2. σ(s, t) = ‖φ_s × φ_t‖ = 2π² sin πs (derived by dual numbers);
-/// 3. m = 4π, F(s) = (1 − cos πs)/2 = sin²(πs/2), G_s(t) = t;
-/// 4. F⁻¹(u) = (2/π) arcsin √u, evaluated as (2/π) atan2(√u, √(1 − u)),
-///    G_s⁻¹(v) = v.
+/// 1. φ(s, t) = 2√(s(1 − s)) (cos 2πt · e1 + sin 2πt · e2) + (1 − 2s) · a, in
+///    the frame `(e1, e2, a)` of the cylinder axis `a` (`s` the height
+///    fraction `(1 − z)/2`, `t` the azimuth in turns);
+/// 2. σ(s, t) = ‖φ_s × φ_t‖ = 4π: Archimedes' local theorem (the axial
+///    projection preserves area), here *derived by dual numbers* and
+///    checked by the unit tests rather than assumed;
+/// 3. m = 4π, F(s) = s, G_s(t) = t;
+/// 4. F⁻¹(u) = u, G_s⁻¹(v) = v.
 ///
-/// Composing gives cos πs = 1 − 2u and sin πs = 2√(u(1 − u)): the recipe
-/// rediscovers Archimedes' axial projection, i.e. [`Sphere`], which the unit
-/// tests check at 256 bits.
+/// The same map follows from spherical coordinates φ(s, t) = (sin πs cos 2πt,
+/// sin πs sin 2πt, cos πs), σ = 2π² sin πs, F(s) = sin²(πs/2),
+/// F⁻¹(u) = (2/π) arcsin √u (see `docs/sphere.md`); the cylinder coordinate is
+/// used here because it is exact at *both* poles: a polar-angle `s` near 1
+/// is a float whose `1 − s` (the distance to the south pole) has only
+/// absolute accuracy, which would limit the recipe's Jacobian there to
+/// ≈ 2^-256/θ at 256 bits, while here `1 − s = 1 − u` is exact.
 ///
 /// # Density
 /// Weight 1 (uniform): density `1/(4π)` per steradian, total measure 4π.
 ///
 /// # Example
 /// ```
-/// use areawarp::recipe::{ClosedForm, RecipeWarp};
+/// use areawarp::recipe::{AreaDensity, ClosedForm, RecipeWarp};
 /// use areawarp::shapes::{Sphere, SphereRecipe};
 /// use areawarp::Warp;
 ///
-/// let spec = RecipeWarp::new(SphereRecipe::<f64>::new(), ClosedForm, ClosedForm);
+/// let recipe = SphereRecipe::<f64>::new();
+/// // Archimedes: the area density is the constant 4π.
+/// let four_pi = 4.0 * std::f64::consts::PI;
+/// assert!((recipe.sigma(&0.1, &0.7) - four_pi).abs() < 1e-13);
+/// let spec = RecipeWarp::new(recipe, ClosedForm, ClosedForm);
 /// let p = spec.map(&0.3, &0.6);
 /// let q = Sphere::<f64>::new().map(&0.3, &0.6);
 /// assert!(p.sub(&q).norm() < 1e-15);
@@ -370,42 +380,33 @@ impl<T: Real> WarpFamily<T> for Sphere<T> {
 #[derive(Clone, Debug)]
 pub struct SphereRecipe<T> {
     frame: Option<Frame<T>>,
-    pi: T,
-    half_pi: T,
     two_pi: T,
     inv_two_pi: T,
-    inv_pi: T,
-    two_over_pi: T,
     four_pi: T,
 }
 
 impl<T: Real> SphereRecipe<T> {
     fn build(frame: Option<Frame<T>>) -> Self {
-        let pi = T::pi();
-        let two_pi = pi.clone() * &T::from_i64(2);
+        let two_pi = T::pi() * &T::from_i64(2);
         SphereRecipe {
             frame,
-            half_pi: pi.clone() / &T::from_i64(2),
             inv_two_pi: T::one() / &two_pi,
+            four_pi: two_pi.clone() * &T::from_i64(2),
             two_pi,
-            inv_pi: T::one() / &pi,
-            two_over_pi: T::from_i64(2) / &pi,
-            four_pi: pi.clone() * &T::from_i64(4),
-            pi,
         }
     }
 
     /// The recipe about the `+z` axis.
     ///
     /// # Density
-    /// σ(s, t) = 2π² sin πs, total measure 4π.
+    /// σ(s, t) = 4π (Archimedes), total measure 4π.
     ///
     /// # Example
     /// ```
     /// use areawarp::recipe::MarginalConditional;
     /// use areawarp::shapes::SphereRecipe;
     /// let r = SphereRecipe::<f64>::new();
-    /// assert!((r.marginal_cdf(&0.5) - 0.5).abs() < 1e-15);
+    /// assert_eq!(r.marginal_cdf(&0.25), 0.25);
     /// ```
     pub fn new() -> Self {
         Self::build(None)
@@ -417,7 +418,7 @@ impl<T: Real> SphereRecipe<T> {
     /// As [`Sphere::with_axis`].
     ///
     /// # Density
-    /// σ(s, t) = 2π² sin πs, total measure 4π, whatever the axis.
+    /// σ(s, t) = 4π, total measure 4π, whatever the axis.
     ///
     /// # Example
     /// ```
@@ -442,9 +443,12 @@ impl<T: Real> Default for SphereRecipe<T> {
 
 impl<T: Real> Parametrization<T> for SphereRecipe<T> {
     fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
-        let (sin_a, cos_a) = (S::embed(&self.pi) * s).sin_cos();
+        let one = S::one();
+        let two = S::from_i64(2);
+        let z = one.clone() - &(s.clone() * &two);
+        let radius = (s.clone() * &(one - s)).sqrt() * &two;
         let (sin_b, cos_b) = (S::embed(&self.two_pi) * t).sin_cos();
-        let local = Vec3::new(sin_a.clone() * &cos_b, sin_a * &sin_b, cos_a);
+        let local = Vec3::new(radius.clone() * &cos_b, radius * &sin_b, z);
         match &self.frame {
             Some(f) => f.to_world(&local),
             None => local,
@@ -452,15 +456,13 @@ impl<T: Real> Parametrization<T> for SphereRecipe<T> {
     }
 
     fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() {
+        if !p.is_finite() || !positive(&p.norm()) {
             return None;
         }
-        let l = match &self.frame {
-            Some(f) => f.to_local(p),
-            None => p.clone(),
-        };
-        let theta = l.x.hypot(&l.y).atan2(&l.z);
-        Some((theta * &self.inv_pi, turns_of(&l.y, &l.x, &self.inv_two_pi)))
+        Some(match &self.frame {
+            Some(f) => local_inverse(&f.to_local(p), &self.inv_two_pi),
+            None => local_inverse(p, &self.inv_two_pi),
+        })
     }
 }
 
@@ -471,10 +473,10 @@ impl<T: Real> MarginalConditional<T> for SphereRecipe<T> {
         self.four_pi.clone()
     }
     fn marginal_cdf(&self, s: &T) -> T {
-        (self.half_pi.clone() * s).sin().square()
+        clamp_unit(s)
     }
-    fn marginal_pdf(&self, s: &T) -> T {
-        (self.pi.clone() * s).sin() * &self.half_pi
+    fn marginal_pdf(&self, _s: &T) -> T {
+        T::one()
     }
     fn conditional_cdf(&self, _s: &T, t: &T) -> T {
         t.clone()
@@ -483,9 +485,7 @@ impl<T: Real> MarginalConditional<T> for SphereRecipe<T> {
         T::one()
     }
     fn marginal_inverse(&self, u: &T) -> Option<T> {
-        let u = clamp_unit(u);
-        let w = T::one() - &u;
-        Some(u.sqrt().atan2(&w.sqrt()) * &self.two_over_pi)
+        Some(u.clone())
     }
     fn conditional_inverse(&self, _s: &T, v: &T) -> Option<T> {
         Some(v.clone())
@@ -765,22 +765,42 @@ mod tests {
                 SphereRecipe::with_axis(Vec3::new(M::from_i64(2), M::from_i64(-1), M::from_i64(2)))
                     .unwrap();
             let tol = M::exp2i(-240);
-            let h = M::exp2i(-70);
-            for (n, d) in [(1, 10), (1, 4), (1, 2), (3, 4), (9, 10)] {
-                let s = M::from_ratio(n, d);
+            let four_pi = M::pi() * &M::from_i64(4);
+            let mut s_values: Vec<M> = [(1, 10), (1, 4), (1, 2), (3, 4), (9, 10)]
+                .iter()
+                .map(|&(n, d)| M::from_ratio(n, d))
+                .collect();
+            s_values.push(M::exp2i(-60));
+            s_values.push(M::one() - &M::exp2i(-60));
+            for s in s_values {
                 let sig0 = r.sigma(&s, &M::zero());
+                // Archimedes' local theorem, from the dual-number partials:
+                // σ ≡ 4π, in particular independent of t …
+                assert!(
+                    (sig0.clone() - &four_pi).abs() <= tol.clone() * &four_pi,
+                    "s={s}"
+                );
                 for t in [M::from_ratio(1, 3), M::from_ratio(7, 10)] {
                     assert!((r.sigma(&s, &t) - &sig0).abs() <= tol.clone() * &sig0);
                 }
+                // … so ∫σ dt = σ = F'(s)·m.
                 let fm = r.marginal_pdf(&s) * &r.measure();
                 assert!((fm - &sig0).abs() <= tol.clone() * &sig0, "s={s}");
-                let closed = M::pi().square() * &M::from_i64(2) * &(M::pi() * &s).sin();
-                assert!((closed - &sig0).abs() <= tol.clone() * &sig0);
-                let fd = (r.marginal_cdf(&(s.clone() + &h)) - &r.marginal_cdf(&(s.clone() - &h)))
-                    / &(h.clone() * &M::from_i64(2));
-                assert!((fd - &r.marginal_pdf(&s)).abs() <= M::exp2i(-120));
                 let back = r.marginal_cdf(&r.marginal_inverse(&s).unwrap());
-                assert!((back - &s).abs() <= tol);
+                assert_eq!(back, s);
+            }
+            // The spherical-coordinate route gives the same map: with
+            // F(s) = sin²(πs/2), F⁻¹(u) = (2/π) arcsin √u, cos πs = 1 − 2u.
+            let direct = Sphere::<M>::new();
+            for u in [
+                M::from_ratio(1, 10),
+                M::from_ratio(1, 3),
+                M::from_ratio(4, 5),
+            ] {
+                let s = u.sqrt().asin() * &M::from_i64(2) / &M::pi();
+                let (sin_a, cos_a) = (M::pi() * &s).sin_cos();
+                let p = direct.map(&u, &M::zero());
+                assert!((p.x.clone() - &sin_a).abs() <= tol && (p.z.clone() - &cos_a).abs() <= tol);
             }
         }
 

@@ -36,18 +36,15 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 /// by one turn when negative. Returns `0` at the pole `x = y = 0`.
 ///
 /// `inv_two_pi` is the caller's precomputed `1/(2π)`. A tiny negative angle
-/// rounds `1 + angle/2π` to the nearest representable value below one, or to
-/// one itself, which is reported as `0` (the same azimuth).
+/// would round `1 + angle/2π` up to one; it is replaced by `1 − u`, the
+/// largest value below one, so that points just below the `+x` axis keep
+/// `v ≈ 1` (their neighbours), and `−0` becomes `+0`.
 pub(crate) fn turns_of<T: Real>(y: &T, x: &T, inv_two_pi: &T) -> T {
     let mut v = y.atan2(x) * inv_two_pi;
     if v < T::zero() {
         v += &T::one();
     }
-    if v >= T::one() || v == T::zero() {
-        // Also turns −0 into +0.
-        v = T::zero();
-    }
-    v
+    (v + &T::zero()).min(&(T::one() - &T::unit_roundoff()))
 }
 
 /// `u` clamped to `[0, 1]`; NaN passes through unchanged (unlike
@@ -60,6 +57,12 @@ pub(crate) fn clamp_unit<T: Real>(u: &T) -> T {
     } else {
         u.clone()
     }
+}
+
+/// `x` clamped to `[0, 1]`, NaN mapped to 0: for maps that promise a finite
+/// point for any input.
+pub(crate) fn clamp01<T: Real>(x: &T) -> T {
+    x.clamp(&T::zero(), &T::one())
 }
 
 /// `x > 0`: `false` for zero, negative values and NaN, so that `!positive(x)`
@@ -127,7 +130,7 @@ mod tests {
         let hp = f64::pi() / 2.0;
         assert_eq!(turns_of(&0.0, &0.0, &i2p), 0.0);
         assert!(turns_of(&-0.0, &1.0, &i2p).is_sign_positive());
-        assert_eq!(turns_of(&-1e-300, &1.0, &i2p), 0.0);
+        assert_eq!(turns_of(&-1e-300, &1.0, &i2p), 1.0 - f64::EPSILON / 2.0);
         for v in [0.0, 1e-12, 0.125, 0.25, 0.5, 0.7, 1.0 - 1e-12] {
             let (c, s) = cos_sin_turns(&v, &hp);
             let w = turns_of(&s, &c, &i2p);
