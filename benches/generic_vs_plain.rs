@@ -39,8 +39,10 @@ fn batch() -> Vec<(f64, f64)> {
 // ---------------------------------------------------------------------------
 // Plain f64: the shapes' formulas, written by hand.
 
-/// `u` clamped to [0, 1], NaN passing through (as `shapes::turns::clamp_unit`).
+/// `u` clamped to [0, 1], NaN passing through (as `shapes::turns::clamp_unit`,
+/// written the same way rather than as `f64::clamp`).
 #[inline]
+#[allow(clippy::manual_clamp)]
 fn clamp_unit(u: f64) -> f64 {
     if u < 0.0 {
         0.0

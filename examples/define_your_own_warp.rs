@@ -23,7 +23,7 @@ use areawarp::real::{Embed, Real, convert};
 use areawarp::recipe::{
     AreaDensity, MarginalConditional, Newton, Parametrization, Recipe, RecipeWarp,
 };
-use areawarp::{Vec3, Warp, WarpError};
+use areawarp::{Vec3, WarpError};
 
 /// The spherical cap {p ∈ S², angle(p, +z) ≤ θ_max}, 0 < θ_max ≤ π.
 ///
@@ -236,6 +236,7 @@ pub const THETAS: [f64; 5] = [
 
 #[cfg(feature = "mpfr")]
 fn main() {
+    use areawarp::Warp;
     // A few samples first: the warp is an ordinary `Warp<f64>`.
     let w = cap_warp(std::f64::consts::FRAC_PI_3).expect("valid angle");
     println!("cap of half-angle 60°: area {:.15} (= π)", w.measure());

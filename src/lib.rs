@@ -22,6 +22,7 @@ pub mod error;
 pub mod harness;
 pub mod real;
 pub mod recipe;
+pub mod sampling;
 pub mod shapes;
 pub mod vector;
 pub mod warp;

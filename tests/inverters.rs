@@ -155,6 +155,7 @@ fn with_cdf<T: Real, R>(fam: Family, f: impl FnOnce(&dyn KnownDyn<T>) -> R) -> R
 }
 
 /// Object-safe view of [`Known`] so families can be looped over.
+#[cfg_attr(not(feature = "mpfr"), allow(dead_code))]
 trait KnownDyn<T: Real>: Cdf1<T> {
     fn inverse_dyn(&self, y: &T) -> T;
 }

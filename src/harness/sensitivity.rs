@@ -44,6 +44,8 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::{Coords, Vec3};
 use crate::warp::Warp;
+#[cfg(feature = "mpfr")]
+use crate::warp::WarpFamily;
 
 /// The factor of the accuracy criterion `error ≤ 16 · max(u_T, κ)`.
 pub const ACCURACY_FACTOR: f64 = 16.0;
@@ -60,6 +62,15 @@ pub enum InputFormat {
 }
 
 impl InputFormat {
+    /// The format of a scalar of `p` significand bits: `F32` for 24, `F64`
+    /// for 53, `None` otherwise.
+    pub fn for_precision(p: u32) -> Option<InputFormat> {
+        match p {
+            24 => Some(InputFormat::F32),
+            53 => Some(InputFormat::F64),
+            _ => None,
+        }
+    }
     /// `x` rounded to this format (nearest), returned as `f64`.
     pub fn round(self, x: f64) -> f64 {
         match self {
@@ -248,6 +259,147 @@ where
         .collect())
 }
 
+/// The outcome of [`check_precision_conditioned`]: the precision check with
+/// each point's error held to its own bound `16 · max(u_T, κ)`.
+#[cfg(feature = "mpfr")]
+#[derive(Clone, Debug)]
+pub struct ConditionedReport {
+    /// The warp's [`WarpFamily::name`].
+    pub warp: String,
+    /// The scalar under test, `f32` or `f64`.
+    pub scalar: String,
+    /// Number of points evaluated.
+    pub points: usize,
+    /// `max error / accuracy_bound(κ)` over the points where both
+    /// evaluations are finite: at most 1 when the map is as accurate as its
+    /// inputs allow.
+    pub max_ratio: f64,
+    /// The input `(u, v)` with the largest ratio.
+    pub worst: Option<(f64, f64)>,
+    /// The error (distance over extent) at [`ConditionedReport::worst`].
+    pub worst_error: f64,
+    /// κ at [`ConditionedReport::worst`].
+    pub worst_kappa: f64,
+    /// The largest error over all points (distance over extent).
+    pub max_error: f64,
+    /// The largest κ over all points.
+    pub max_kappa: f64,
+    /// Points where the map in `T` returned NaN or infinite coordinates.
+    pub non_finite: usize,
+    /// Points where the 256-bit reference was not finite.
+    pub reference_non_finite: usize,
+    /// Points whose [`Warp::outside_by`] (measured on the reference shape)
+    /// exceeds their accuracy bound.
+    pub outside: usize,
+}
+
+#[cfg(feature = "mpfr")]
+impl ConditionedReport {
+    /// `true` when every point is finite, none is outside beyond its bound,
+    /// and every error is within its bound (`max_ratio ≤ 1`).
+    pub fn passes(&self) -> bool {
+        self.non_finite == 0
+            && self.reference_non_finite == 0
+            && self.outside == 0
+            && self.max_ratio <= 1.0
+    }
+}
+
+/// The precision check of [`precision`](super::precision) with a per-point
+/// bound: at each of `points`, the error of `w` evaluated in `T` (`f32` or
+/// `f64`) against the same shape as `T` sees it at 256 bits, in distance over
+/// extent, divided by [`accuracy_bound`]`(κ)`, where κ is the sensitivity at
+/// that point of the map `build` makes from `params` (the parameters of the
+/// same shape, in `f64`) with `T`'s input format.
+///
+/// `w` and `build(params)` must describe the same shape and variant; the
+/// error reference is `w.at::<T>()?.at::<Mpfr256>()`, as in
+/// [`check_precision`](super::precision::check_precision).
+///
+/// # Errors
+/// [`WarpError::InvalidParameter`] if `T` is neither `f32` nor `f64`; the
+/// errors of [`WarpFamily::at`] and of [`sensitivities_in`].
+///
+/// # Example
+/// ```ignore
+/// let report = check_precision_conditioned::<f64, _, _, _>(
+///     &triangle, |p: &[Mpfr256]| build_triangle(p), &params, &extremes_grid())?;
+/// assert!(report.passes(), "{report:?}");
+/// ```
+#[cfg(feature = "mpfr")]
+pub fn check_precision_conditioned<T, W, F, WR>(
+    w: &W,
+    build: F,
+    params: &[f64],
+    points: &[(f64, f64)],
+) -> Result<ConditionedReport, WarpError>
+where
+    T: Real,
+    W: WarpFamily<f64>,
+    F: Fn(&[crate::real::Mpfr256]) -> Result<WR, WarpError>,
+    WR: Warp<crate::real::Mpfr256>,
+{
+    use crate::real::{Mpfr256, convert};
+    let format = InputFormat::for_precision(T::precision()).ok_or(WarpError::InvalidParameter {
+        name: "T",
+        expected: "f32 or f64",
+    })?;
+    let kappas = sensitivities_in(build, params, points, format)?;
+    let wt = w.at::<T>()?;
+    let wr = wt.at::<Mpfr256>()?;
+    let extent = wr.extent();
+    let mut report = ConditionedReport {
+        warp: w.name(),
+        scalar: T::type_name(),
+        points: points.len(),
+        max_ratio: 0.0,
+        worst: None,
+        worst_error: 0.0,
+        worst_kappa: 0.0,
+        max_error: 0.0,
+        max_kappa: 0.0,
+        non_finite: 0,
+        reference_non_finite: 0,
+        outside: 0,
+    };
+    for (&(u, v), s) in points.iter().zip(&kappas) {
+        report.max_kappa = report.max_kappa.max(s.kappa);
+        let (ut, vt) = (T::from_f64(u), T::from_f64(v));
+        let (ur, vr): (Mpfr256, Mpfr256) = (convert(&ut), convert(&vt));
+        let reference = wr.map(&ur, &vr).to_vec3();
+        let pt = wt.map(&ut, &vt).to_vec3();
+        if !reference.is_finite() {
+            report.reference_non_finite += 1;
+            continue;
+        }
+        if !pt.is_finite() {
+            report.non_finite += 1;
+            continue;
+        }
+        let p: Vec3<Mpfr256> = pt.convert();
+        let bound = accuracy_bound(s.kappa, format);
+        let err = (p.sub(&reference).max_abs() / &extent).to_f64();
+        let out =
+            (wr.outside_by(&<WR2<T, W> as Warp<Mpfr256>>::Point::from_vec3(p)) / &extent).to_f64();
+        if out > bound {
+            report.outside += 1;
+        }
+        report.max_error = report.max_error.max(err);
+        let ratio = err / bound;
+        if report.worst.is_none() || ratio > report.max_ratio {
+            report.max_ratio = ratio;
+            report.worst = Some((u, v));
+            report.worst_error = err;
+            report.worst_kappa = s.kappa;
+        }
+    }
+    Ok(report)
+}
+
+/// The reference warp type of [`check_precision_conditioned`].
+#[cfg(feature = "mpfr")]
+type WR2<T, W> = <<W as WarpFamily<f64>>::At<T> as WarpFamily<T>>::At<crate::real::Mpfr256>;
+
 fn finite<R: Real>(p: Vec3<R>, what: &'static str) -> Result<Vec3<R>, WarpError> {
     if p.is_finite() {
         Ok(p)
@@ -259,7 +411,7 @@ fn finite<R: Real>(p: Vec3<R>, what: &'static str) -> Result<Vec3<R>, WarpError>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::harness::test_warps::{Parallelogram, TestDisk, TestSphere};
+    use crate::harness::test_warps::{Parallelogram, TestDisk};
 
     fn parallelogram<R: Real>(p: &[R]) -> Result<Parallelogram<R>, WarpError> {
         let v = |i: usize| Vec3::new(p[i].clone(), p[i + 1].clone(), p[i + 2].clone());
@@ -305,6 +457,7 @@ mod tests {
     #[cfg(feature = "mpfr")]
     #[test]
     fn sqrt_of_one_minus_u_is_ill_conditioned() {
+        use crate::harness::test_warps::TestSphere;
         // Sphere: r = 2√(u(1 − u)). At u = 1 − 2^-53 the step up to u = 1
         // moves r from 2·2^-26.5·√(1 − 2^-53) to 0: κ ≈ 2^-25.5.
         let build = |_: &[crate::real::Mpfr256]| {
@@ -391,6 +544,107 @@ mod tests {
         // At u = 1/2 the step down makes it NaN.
         let r = sensitivities_in(|_: &[f64]| Ok(Nan), &[], &[(0.5, 0.5)], InputFormat::F64);
         assert!(matches!(r, Err(WarpError::NonFinite { .. })));
+    }
+
+    /// The unit square's identity map, evaluated as `((u + 2^k) − 2^k, v)`:
+    /// exact for `k = 0`, loses `k` bits of `u` otherwise.
+    #[cfg(feature = "mpfr")]
+    #[derive(Clone, Debug)]
+    struct Lossy(i32);
+    #[cfg(feature = "mpfr")]
+    impl<T: Real> Warp<T> for Lossy {
+        type Point = crate::vector::Vec2<T>;
+        fn map(&self, u: &T, v: &T) -> Self::Point {
+            let big = if self.0 == 0 {
+                T::zero()
+            } else {
+                T::exp2i(self.0)
+            };
+            crate::vector::Vec2::new(u.clone() + &big - &big, v.clone())
+        }
+        fn pdf(&self, _p: &Self::Point) -> T {
+            T::one()
+        }
+        fn measure(&self) -> T {
+            T::one()
+        }
+        fn inverse(&self, p: &Self::Point) -> Option<(T, T)> {
+            Some((p.x.clone(), p.y.clone()))
+        }
+        fn outside_by(&self, p: &Self::Point) -> T {
+            let zero = T::zero();
+            (-p.x.clone()).max(&zero) + &(p.x.clone() - &T::one()).max(&zero)
+        }
+    }
+    #[cfg(feature = "mpfr")]
+    impl<T: Real> WarpFamily<T> for Lossy {
+        type At<S: Real> = Lossy;
+        fn at<S: Real>(&self) -> Result<Lossy, WarpError> {
+            Ok(self.clone())
+        }
+        fn name(&self) -> String {
+            format!("lossy({})", self.0)
+        }
+    }
+
+    #[cfg(feature = "mpfr")]
+    #[test]
+    fn conditioned_precision_check() {
+        use crate::harness::extremes::{extremes_grid, random_points};
+        use crate::harness::test_warps::TestSphere;
+        use crate::real::Mpfr256;
+        let mut points = extremes_grid();
+        points.extend(random_points(50, 1));
+        let sphere = |_: &[Mpfr256]| Ok::<_, WarpError>(TestSphere::<Mpfr256>::new(false));
+        for r in [
+            check_precision_conditioned::<f64, _, _, _>(
+                &TestSphere::<f64>::new(false),
+                sphere,
+                &[],
+                &points,
+            )
+            .unwrap(),
+            check_precision_conditioned::<f32, _, _, _>(
+                &TestSphere::<f64>::new(false),
+                sphere,
+                &[],
+                &points,
+            )
+            .unwrap(),
+        ] {
+            assert!(r.passes(), "{r:?}");
+            assert_eq!(r.points, 114);
+            // u = 1 − 1e-12 is ill-conditioned in f64 (r = 2√(u(1 − u))).
+            assert!(r.max_kappa > 1e-8, "{r:?}");
+            assert!(r.max_error > 0.0);
+        }
+        let exact = check_precision_conditioned::<f32, _, _, _>(
+            &Lossy(0),
+            |_: &[Mpfr256]| Ok(Lossy(0)),
+            &[],
+            &points,
+        )
+        .unwrap();
+        assert!(exact.passes() && exact.max_error == 0.0, "{exact:?}");
+        // Losing 8 bits of u: errors up to 2^-17 where κ ≈ 2^-24.
+        let lossy = check_precision_conditioned::<f32, _, _, _>(
+            &Lossy(8),
+            |_: &[Mpfr256]| Ok(Lossy(0)),
+            &[],
+            &points,
+        )
+        .unwrap();
+        assert!(!lossy.passes());
+        assert!(lossy.max_ratio > 2.0, "{lossy:?}");
+        assert!(
+            check_precision_conditioned::<Mpfr256, _, _, _>(
+                &Lossy(0),
+                |_: &[Mpfr256]| Ok(Lossy(0)),
+                &[],
+                &points,
+            )
+            .is_err()
+        );
     }
 
     #[test]

@@ -186,6 +186,27 @@ impl Inverter for ClosedForm {
 /// so that over dual numbers x carries dx/dy = 1/F'(x) (module docs). It is
 /// accepted inside the bracket, or outside it if it moves x by at most 4
 /// units of roundoff (rounding noise), and never outside the domain.
+///
+/// # Example
+/// ```
+/// use areawarp::recipe::{Cdf1, Inverter, Newton};
+///
+/// /// F(x) = x³ on [0, 1].
+/// struct Cube;
+/// impl Cdf1<f64> for Cube {
+///     fn cdf(&self, x: &f64) -> f64 {
+///         x * x * x
+///     }
+///     fn pdf(&self, x: &f64) -> f64 {
+///         3.0 * x * x
+///     }
+/// }
+///
+/// let r = Newton::default().invert(&Cube, &0.125);
+/// assert!(r.converged && r.iterations < 20);
+/// assert!((r.x - 0.5).abs() <= 4.0 * f64::EPSILON / 2.0 * 0.5);
+/// assert_eq!(Newton::default().invert(&Cube, &1.0).x, 1.0);
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Newton {
     /// Stopping tolerance on |Δx| (and on the bracket width).

@@ -5,6 +5,7 @@ mod hemisphere;
 mod phong;
 mod planar_triangle;
 mod sphere;
+mod spherical_triangle;
 mod turns;
 pub use concentric_disk::ConcentricDisk;
 pub use disk::{PolarDisk, PolarDiskRecipe};
@@ -12,3 +13,7 @@ pub use hemisphere::{Hemisphere, HemisphereRecipe};
 pub use phong::{PhongLobe, PhongRecipe};
 pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe};
 pub use sphere::{Sphere, SphereRecipe};
+pub use spherical_triangle::{
+    SphericalTriangle, SphericalTriangleRecipe, SphericalTriangleVariant, hard_triangles,
+    ordinary_triangles,
+};

@@ -1,0 +1,404 @@
+//! Preprocessing: validation and orientation of the polygon, clipping
+//! against the receiver's horizon, and the partition into lunes.
+
+use super::lune::{Lune, LuneCdf, LuneEdge};
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::recipe::FittedCubic;
+use crate::shapes::polygon_measures::turning_parts;
+use crate::vector::Vec3;
+
+fn degenerate(what: &'static str) -> WarpError {
+    WarpError::Degenerate { what }
+}
+
+/// A directed minor great arc `a → b` of the clipped boundary, with the
+/// unit normal `n` of its great circle oriented as `a × b` (the polygon
+/// lies on the side `n · p > 0` next to it).
+#[derive(Clone, Debug)]
+pub(super) struct Arc<T> {
+    /// Start.
+    pub a: Vec3<T>,
+    /// End.
+    pub b: Vec3<T>,
+    /// Unit normal of the great circle.
+    pub n: Vec3<T>,
+}
+
+/// Everything `new` precomputes.
+pub(super) struct Built<T> {
+    pub arcs: Vec<Arc<T>>,
+    pub lunes: Vec<Lune<T>>,
+    pub edges: Vec<LuneEdge<T>>,
+    pub active: Vec<usize>,
+    pub fits: Vec<FittedCubic<T>>,
+    pub measure: T,
+    pub solid_angle: T,
+}
+
+/// `v / |v|`, scaling by the largest coordinate first (no overflow or
+/// underflow for huge or subnormal input).
+pub(super) fn unit_direction<T: Real>(v: &Vec3<T>, what: &'static str) -> Result<Vec3<T>, WarpError> {
+    if !v.is_finite() {
+        return Err(WarpError::NonFinite { what });
+    }
+    let m = v.max_abs();
+    if !(m > T::zero()) {
+        return Err(degenerate("a polygon vertex direction is the zero vector"));
+    }
+    let w = v.scale(&(T::one() / &m));
+    w.normalized()
+        .ok_or_else(|| degenerate("a polygon vertex direction is the zero vector"))
+}
+
+/// Validates the vertices, normalizes them and orients the polygon so that
+/// the smaller of the two regions its boundary bounds lies to the left
+/// (`(v_i × v_{i+1}) · p > 0` inside). Returns the vertices and the solid
+/// angle of that region.
+pub(super) fn prepare<T: Real>(vertices: &[Vec3<T>]) -> Result<(Vec<Vec3<T>>, T), WarpError> {
+    let n = vertices.len();
+    if n < 3 {
+        return Err(degenerate("a polygon needs at least 3 vertices"));
+    }
+    let mut v = Vec::with_capacity(n);
+    for p in vertices {
+        v.push(unit_direction(p, "polygon vertex")?);
+    }
+    for i in 0..n {
+        let (a, b) = (&v[i], &v[(i + 1) % n]);
+        if a.cross(b).max_abs() == T::zero() {
+            return Err(if a.dot(b) > T::zero() {
+                degenerate("coincident consecutive vertices")
+            } else {
+                degenerate("antipodal consecutive vertices (the edge is undefined)")
+            });
+        }
+    }
+    // Gauss–Bonnet: the region on the left has solid angle 2π − Σ τ_i.
+    let u = T::unit_roundoff();
+    let fold = T::from_i64(64) * &u;
+    let mut turning = T::zero();
+    for i in 0..n {
+        let (det, cos_part) = turning_parts(&v[(i + n - 1) % n], &v[i], &v[(i + 1) % n]);
+        if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
+            return Err(degenerate(
+                "the polygon folds straight back on itself at a vertex",
+            ));
+        }
+        turning += &det.atan2(&cos_part);
+    }
+    let two_pi = T::pi() * &T::from_i64(2);
+    let four_pi = two_pi.clone() * &T::from_i64(2);
+    let omega = two_pi.clone() - &turning;
+    let slack = T::from_i64(64 * n as i64) * &u * &two_pi;
+    if omega <= slack || omega >= four_pi.clone() - &slack || !omega.is_finite() {
+        return Err(degenerate("the polygon has zero solid angle"));
+    }
+    if (omega.clone() - &two_pi).abs() <= slack {
+        return Err(degenerate(
+            "the polygon bounds two regions of solid angle 2π: its interior is ambiguous",
+        ));
+    }
+    if omega > two_pi {
+        v.reverse();
+        Ok((v, four_pi - &omega))
+    } else {
+        Ok((v, omega))
+    }
+}
+
+/// The point where the great arc `a → b` crosses the horizon `z = 0`
+/// (`a.z` and `b.z` of opposite signs): `|a.z| b + |b.z| a`, normalized;
+/// its `z` is exactly 0.
+fn horizon_crossing<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    let p = b.scale(&a.z).sub(&a.scale(&b.z));
+    let p = if a.z < T::zero() { p.neg() } else { p };
+    let p = Vec3::new(p.x, p.y, T::zero());
+    p.normalized().unwrap_or_else(|| a.clone())
+}
+
+/// Clips the oriented polygon against the horizon `z ≥ 0`: the parts of
+/// its edges above the horizon, plus arcs of the horizon from each point
+/// where the boundary goes below to the next point (counter-clockwise, the
+/// direction that keeps the region on the left) where it comes back.
+/// Horizon arcs are split into pieces of at most a quarter turn.
+pub(super) fn clip<T: Real>(v: &[Vec3<T>]) -> Result<Vec<Arc<T>>, WarpError> {
+    let n = v.len();
+    let zero = T::zero();
+    let mut arcs = Vec::with_capacity(n + 4);
+    let mut exits: Vec<Vec3<T>> = Vec::new();
+    let mut entries: Vec<Vec3<T>> = Vec::new();
+    for i in 0..n {
+        let (a, b) = (&v[i], &v[(i + 1) % n]);
+        let normal = match a.cross(b).normalized() {
+            Some(m) => m,
+            None => return Err(degenerate("coincident consecutive vertices")),
+        };
+        let arc = |p: &Vec3<T>, q: &Vec3<T>| Arc {
+            a: p.clone(),
+            b: q.clone(),
+            n: normal.clone(),
+        };
+        let (a_below, b_below) = (a.z < zero, b.z < zero);
+        match (a_below, b_below) {
+            (true, true) => {}
+            (false, false) => arcs.push(arc(a, b)),
+            (false, true) => {
+                if a.z > zero {
+                    let c = horizon_crossing(a, b);
+                    arcs.push(arc(a, &c));
+                    exits.push(c);
+                } else {
+                    exits.push(a.clone());
+                }
+            }
+            (true, false) => {
+                if b.z > zero {
+                    let c = horizon_crossing(a, b);
+                    arcs.push(arc(&c, b));
+                    entries.push(c);
+                } else {
+                    entries.push(b.clone());
+                }
+            }
+        }
+    }
+    if exits.len() != entries.len() {
+        return Err(degenerate("inconsistent horizon crossings"));
+    }
+    // Pair each exit with the next entry counter-clockwise.
+    let two_pi = T::pi() * &T::from_i64(2);
+    let quarter = T::pi() / &T::from_i64(2);
+    let mut used = vec![false; entries.len()];
+    for e in &exits {
+        let mut best: Option<(usize, T)> = None;
+        for (j, x) in entries.iter().enumerate() {
+            let cross = e.x.clone() * &x.y - &(e.y.clone() * &x.x);
+            let dot = e.x.clone() * &x.x + &(e.y.clone() * &x.y);
+            let mut ang = cross.atan2(&dot);
+            if ang < zero {
+                ang += &two_pi;
+            }
+            if best.as_ref().is_none_or(|(_, b)| ang < *b) {
+                best = Some((j, ang));
+            }
+        }
+        let Some((j, ang)) = best else {
+            return Err(degenerate("inconsistent horizon crossings"));
+        };
+        if used[j] {
+            return Err(degenerate(
+                "self-intersecting polygon (its horizon crossings do not pair up)",
+            ));
+        }
+        used[j] = true;
+        if ang == zero {
+            continue;
+        }
+        // ⌈ang / (π/2)⌉ pieces, each at most a quarter turn.
+        let mut pieces = 1;
+        while pieces < 4 && ang > quarter.clone() * &T::from_i64(pieces) {
+            pieces += 1;
+        }
+        let up = Vec3::new(zero.clone(), zero.clone(), T::one());
+        let mut prev = e.clone();
+        for k in 1..=pieces {
+            let next = if k == pieces {
+                entries[j].clone()
+            } else {
+                let t = ang.clone() * &T::from_ratio(k, pieces);
+                let (s, c) = t.sin_cos();
+                Vec3::new(
+                    e.x.clone() * &c - &(e.y.clone() * &s),
+                    e.x.clone() * &s + &(e.y.clone() * &c),
+                    zero.clone(),
+                )
+            };
+            arcs.push(Arc {
+                a: prev,
+                b: next.clone(),
+                n: up.clone(),
+            });
+            prev = next;
+        }
+    }
+    if arcs.is_empty() {
+        return Err(degenerate(
+            "the polygon lies below the receiver's horizon (zero projected solid angle)",
+        ));
+    }
+    Ok(arcs)
+}
+
+/// `true` if `p` is the pole (no azimuth).
+fn at_pole<T: Real>(p: &Vec3<T>) -> bool {
+    p.x == T::zero() && p.y == T::zero()
+}
+
+/// Partitions the clipped polygon into lunes, computes the per-edge
+/// constants, sorts each lune's edges outwards from the pole, checks the
+/// structure, and fits each lune's marginal.
+pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Built<T>, WarpError> {
+    let zero = T::zero();
+    let u = T::unit_roundoff();
+    let two_pi = T::pi() * &T::from_i64(2);
+    // Arcs along meridians (n_z = 0, including those through the pole)
+    // sweep no azimuth and bound no projected area.
+    let usable: Vec<&Arc<T>> = arcs
+        .iter()
+        .filter(|a| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
+        .collect();
+    let azimuth = |p: &Vec3<T>| p.y.atan2(&p.x);
+    let mut bounds: Vec<T> = Vec::with_capacity(2 * usable.len());
+    for a in &usable {
+        bounds.push(azimuth(&a.a));
+        bounds.push(azimuth(&a.b));
+    }
+    bounds.sort_by(|x, y| x.partial_cmp(y).unwrap_or(core::cmp::Ordering::Equal));
+    bounds.dedup();
+    let m = bounds.len();
+    if m < 2 {
+        return Err(degenerate("zero projected solid angle"));
+    }
+    let index = |x: &T| -> usize {
+        bounds
+            .partition_point(|b| b < x)
+            .min(m - 1)
+    };
+    let width = |k: usize| -> T {
+        if k + 1 < m {
+            bounds[k + 1].clone() - &bounds[k]
+        } else {
+            bounds[0].clone() + &two_pi - &bounds[m - 1]
+        }
+    };
+    let slack = T::exp2i(-((T::precision() / 2) as i32));
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); m];
+    for (ai, a) in usable.iter().enumerate() {
+        let (ia, ib) = (index(&azimuth(&a.a)), index(&azimuth(&a.b)));
+        if ia == ib {
+            continue;
+        }
+        let (first, last) = if a.n.z > zero { (ia, ib) } else { (ib, ia) };
+        let mut sweep = T::zero();
+        let mut k = first;
+        while k != last {
+            sweep += &width(k);
+            k = (k + 1) % m;
+        }
+        if sweep > T::pi() + &slack {
+            if a.n.z.abs() <= slack {
+                // An edge through the pole within rounding: no area.
+                continue;
+            }
+            return Err(degenerate("an edge sweeps more than half a turn of azimuth"));
+        }
+        let mut k = first;
+        while k != last {
+            members[k].push(ai);
+            k = (k + 1) % m;
+        }
+    }
+
+    let half = T::from_ratio(1, 2);
+    let mut lunes = Vec::with_capacity(m);
+    let mut edges: Vec<LuneEdge<T>> = Vec::new();
+    let mut magnitude = T::zero();
+    for (k, list) in members.iter().enumerate() {
+        let start = bounds[k].clone();
+        let w = width(k);
+        let (sin_a, cos_a) = start.sin_cos();
+        let mut lune_edges: Vec<LuneEdge<T>> = list
+            .iter()
+            .map(|&ai| {
+                let n = &usable[ai].n;
+                LuneEdge::new(&n.x, &n.y, &n.z, &cos_a, &sin_a)
+            })
+            .collect();
+        // Sort outwards at the middle meridian; check the order at the ends.
+        let (sm, cm) = (w.clone() * &half).sin_cos();
+        lune_edges.sort_by(|p, q| {
+            p.crossing(&cm, &sm)
+                .0
+                .partial_cmp(&q.crossing(&cm, &sm).0)
+                .unwrap_or(core::cmp::Ordering::Equal)
+        });
+        let (s1, c1) = w.sin_cos();
+        for (c, s) in [(T::one(), T::zero()), (c1.clone(), s1.clone())] {
+            for pair in lune_edges.windows(2) {
+                let (r0, r1) = (pair[0].crossing(&c, &s).0, pair[1].crossing(&c, &s).0);
+                if r1 < r0 - &slack {
+                    return Err(degenerate("self-intersecting polygon (edges cross)"));
+                }
+            }
+        }
+        // Boundaries alternate inner/outer and the outermost is outer.
+        let outer: Vec<bool> = lune_edges.iter().map(|e| e.nz > zero).collect();
+        if let Some(last) = outer.last()
+            && (!*last || outer.windows(2).any(|p| p[0] == p[1]))
+        {
+            return Err(degenerate(
+                "self-intersecting polygon (inconsistent edge orientation)",
+            ));
+        }
+        let pole_inside = outer.first().copied().unwrap_or(false);
+        let first = edges.len();
+        let two_area = if lune_edges.is_empty() {
+            zero.clone()
+        } else {
+            let mut sum = T::zero();
+            for e in &lune_edges {
+                let s = e.swept(&c1, &s1);
+                magnitude += &s.abs();
+                sum += &s;
+            }
+            sum.max(&zero)
+        };
+        edges.extend(lune_edges);
+        lunes.push(Lune {
+            start,
+            width: w,
+            cos_a,
+            sin_a,
+            area: two_area.clone() * &half,
+            two_area,
+            cum_start: zero.clone(),
+            first,
+            end: edges.len(),
+            pole_inside,
+            active: None,
+        });
+    }
+    // Projected area by lune; lunes of zero area are never sampled.
+    let mut measure = T::zero();
+    let mut active = Vec::new();
+    let mut fits = Vec::new();
+    for (k, lune) in lunes.iter_mut().enumerate() {
+        lune.cum_start = measure.clone();
+        if lune.two_area > zero {
+            measure += &lune.area;
+            lune.active = Some(active.len());
+            active.push(k);
+        }
+    }
+    if !(measure > T::from_i64(64) * &u * &magnitude) || !measure.is_finite() {
+        return Err(degenerate(
+            "zero projected solid angle (the polygon lies on or below the horizon)",
+        ));
+    }
+    for &k in &active {
+        fits.push(FittedCubic::fit(&LuneCdf {
+            lune: &lunes[k],
+            edges: &edges,
+        }));
+    }
+    Ok(Built {
+        arcs,
+        lunes,
+        edges,
+        active,
+        fits,
+        measure,
+        solid_angle,
+    })
+}

@@ -1,0 +1,677 @@
+//! Cosine-weighted sampling of spherical polygons: the projected spherical
+//! polygon map of Arvo 2001, §1.4, with a corrected conditional density.
+//! Derivation, numerics and the measured speed–accuracy trade of the
+//! marginal inversion: `docs/projected-polygon.md`.
+
+mod build;
+mod lune;
+#[cfg(test)]
+mod reference;
+#[cfg(test)]
+mod tests;
+
+use self::build::{Arc, Built, clip, partition, prepare, unit_direction};
+use self::lune::{Lune, LuneCdf, LuneEdge};
+use super::turns::{clamp_unit, on_shape_tolerance};
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::recipe::{FittedCubic, Inverter, Newton, Tolerance};
+use crate::vector::Vec3;
+use crate::warp::{Warp, WarpFamily};
+
+/// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
+/// only step of the map that is not exact).
+///
+/// Each lune's inverse marginal F⁻¹ is approximated at construction by a
+/// cubic through four points, [`FittedCubic`] (Arvo's Vandermonde cubic,
+/// eq. 1.56–1.57); the settings differ in what they do with it per sample.
+/// Costs and accuracy are measured in `docs/projected-polygon.md`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MarginalInversion {
+    /// The cubic alone: no evaluation of F per sample (fastest), biased at
+    /// the level of the cubic's error (about 10⁻⁴ … 10⁻⁶ in u, polygon
+    /// dependent).
+    Cubic,
+    /// The cubic, then `k` safeguarded Newton steps
+    /// ([`FittedCubic::invert`]); each step costs one evaluation of F and
+    /// F' and roughly squares the error.
+    CubicNewton(u32),
+    /// Safeguarded Newton ([`Newton`]) from the cubic, to convergence
+    /// (4 units of roundoff): unbiased to the working precision, and
+    /// exactly area-preserving at 256 bits. The default.
+    #[default]
+    Newton,
+}
+
+/// Where the polygon came from, kept to rebuild it at another precision.
+#[derive(Clone, Debug)]
+enum Source<T> {
+    Directions(Vec<Vec3<T>>),
+    Points {
+        points: Vec<Vec3<T>>,
+        observer: Vec3<T>,
+        normal: Vec3<T>,
+    },
+}
+
+/// A right-handed orthonormal frame `(e1, e2, n)` with the receiver's
+/// normal `n` as local `+z`.
+#[derive(Clone, Debug)]
+struct Frame<T> {
+    e1: Vec3<T>,
+    e2: Vec3<T>,
+    n: Vec3<T>,
+}
+
+impl<T: Real> Frame<T> {
+    /// Completes the unit normal `n` to a frame (Duff et al. 2017,
+    /// "Building an orthonormal basis, revisited").
+    fn from_normal(n: Vec3<T>) -> Self {
+        let one = T::one();
+        let sign = one.copysign(&n.z);
+        let a = -(one.clone() / &(sign.clone() + &n.z));
+        let b = n.x.clone() * &n.y * &a;
+        let e1 = Vec3::new(
+            one + &(sign.clone() * &n.x.square() * &a),
+            sign.clone() * &b,
+            -(sign.clone() * &n.x),
+        );
+        let e2 = Vec3::new(b, sign + &(n.y.square() * &a), -n.y.clone());
+        Frame { e1, e2, n }
+    }
+    fn to_local(&self, p: &Vec3<T>) -> Vec3<T> {
+        Vec3::new(p.dot(&self.e1), p.dot(&self.e2), p.dot(&self.n))
+    }
+    fn to_world(&self, l: &Vec3<T>) -> Vec3<T> {
+        self.e1
+            .scale(&l.x)
+            .add(&self.e2.scale(&l.y))
+            .add(&self.n.scale(&l.z))
+    }
+}
+
+/// Cosine-weighted directions in a spherical polygon (Arvo 2001, §1.4): the
+/// density is proportional to `cos θ` (θ from the receiver's normal, local
+/// `+z`), i.e. uniform in the polygon's projection onto the receiver's
+/// plane (Nusselt's analogy). Convex or not, around the pole or not, partly
+/// below the horizon (clipped).
+///
+/// # The map
+/// With the polygon projected into the unit disk (a direction
+/// `(x, y, z) ↦ (x, y)`), the projected solid angle is plane area, and the
+/// map samples that planar region in polar coordinates `(φ, r)`:
+///
+/// 1. `u` picks the azimuth φ by the marginal `F(φ)` = projected area of
+///    the polygon between the first meridian and φ. The polygon is cut by
+///    the meridians through its vertices into *lunes*; inside a lune the
+///    area swept by an edge is `½ n_z α(δ)` (Lambert; α from eq. 1.47), a
+///    lune is chosen by binary search on the cumulative areas, and F is
+///    inverted inside it by the [`MarginalInversion`] setting.
+/// 2. `v` picks the height on that meridian from the conditional density,
+///    which is *uniform in r² = 1 − z²* over the union of the polygon's
+///    intervals on the meridian (density ∝ z in z — not ∝ z² as printed
+///    in Arvo's eq. 1.58–1.60; see the docs).
+///
+/// `v = 0` is the innermost point (nearest the pole) and `v = 1` the
+/// outermost. Cost per sample: O(log n) to find the lune plus O(k) for the k
+/// edges crossing it (2 for convex polygons), times the evaluations of F
+/// the inversion setting needs.
+///
+/// # Input and conventions
+/// Vertices are directions seen from the origin (any positive length),
+/// joined by minor great arcs, in either order; the polygon is the
+/// *smaller* of the two regions the boundary bounds (solid angle < 2π).
+/// The receiver's normal is `+z` for [`ProjectedPolygon::new`]; with
+/// [`ProjectedPolygon::from_points`] the directions are `points − observer`
+/// and the normal is given (returned directions are then in world
+/// coordinates).
+///
+/// # Checked in the constructor
+/// Fewer than three vertices, non-finite or zero directions, coincident or
+/// antipodal consecutive vertices, a boundary folding straight back on
+/// itself, a boundary that is a great circle (interior ambiguous), zero
+/// projected solid angle after clipping (below the horizon), and — cheaply,
+/// as a by-product of the lune partition — self-intersections: edges whose
+/// order along a meridian changes inside a lune (by more than 2^(−p/2) in
+/// r²) and inconsistent inner/outer alternation of the edges crossing a
+/// lune. A self-intersection exactly on a vertex meridian may go unnoticed.
+///
+/// # Density
+/// `pdf(p) = max(cos θ, 0) / Π` per steradian, `measure() = Π`, the
+/// projected solid angle of the clipped polygon (π × the form factor). The
+/// pdf is evaluated without testing that `p` lies in the polygon (use
+/// [`Warp::outside_by`]).
+///
+/// # Example
+/// ```
+/// use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
+/// use areawarp::{Vec3, Warp};
+///
+/// // A square light in the plane z = 1, partly beside the receiver.
+/// let light = [
+///     Vec3::new(-0.5, 0.2, 1.0),
+///     Vec3::new(0.5, 0.2, 1.0),
+///     Vec3::new(0.5, 1.2, 1.0),
+///     Vec3::new(-0.5, 1.2, 1.0),
+/// ];
+/// let w = ProjectedPolygon::<f64>::new(&light)?;
+/// let p = w.map(&0.3, &0.7);
+/// assert!((p.norm() - 1.0).abs() < 1e-15);
+/// assert!(w.outside_by(&p) < 1e-15);
+/// assert!((w.pdf(&p) - p.z / w.measure()).abs() < 1e-15);
+/// let (u, v) = w.inverse(&p).unwrap();
+/// assert!((u - 0.3).abs() < 1e-12 && (v - 0.7).abs() < 1e-12);
+///
+/// // The bare cubic: faster, slightly biased.
+/// let fast = ProjectedPolygon::<f64>::new_with(&light, MarginalInversion::Cubic)?;
+/// assert!(fast.map(&0.3, &0.7).sub(&p).norm() < 1e-3);
+/// # Ok::<(), areawarp::WarpError>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct ProjectedPolygon<T> {
+    source: Source<T>,
+    inversion: MarginalInversion,
+    frame: Option<Frame<T>>,
+    arcs: Vec<Arc<T>>,
+    lunes: Vec<Lune<T>>,
+    edges: Vec<LuneEdge<T>>,
+    /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
+    active: Vec<usize>,
+    /// Fitted inverse marginal per active lune.
+    fits: Vec<FittedCubic<T>>,
+    measure: T,
+    solid_angle: T,
+    two_pi: T,
+}
+
+impl<T: Real> ProjectedPolygon<T> {
+    /// The polygon with vertex directions `vertices` (receiver normal `+z`),
+    /// sampled with the default [`MarginalInversion::Newton`].
+    ///
+    /// # Errors
+    /// [`WarpError::NonFinite`] for a non-finite vertex,
+    /// [`WarpError::Degenerate`] for the cases listed on the type.
+    ///
+    /// # Density
+    /// `cos θ / Π` per steradian.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::ProjectedPolygon;
+    /// use areawarp::{Vec3, Warp};
+    /// // The octant x, y, z ≥ 0: a quarter of the unit disk when projected.
+    /// let o = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0)];
+    /// let w = ProjectedPolygon::<f64>::new(&o)?;
+    /// assert!((w.measure() - std::f64::consts::FRAC_PI_4).abs() < 1e-15);
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn new(vertices: &[Vec3<T>]) -> Result<Self, WarpError> {
+        Self::new_with(vertices, MarginalInversion::default())
+    }
+
+    /// As [`ProjectedPolygon::new`], with the given marginal inversion.
+    ///
+    /// # Errors
+    /// As [`ProjectedPolygon::new`].
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
+    /// use areawarp::Vec3;
+    /// let tri = [Vec3::new(0.2, 0.0, 1.0), Vec3::new(0.0, 0.3, 1.0), Vec3::new(-0.1, -0.1, 1.0)];
+    /// let w = ProjectedPolygon::<f32>::new_with(&tri, MarginalInversion::CubicNewton(2))?;
+    /// assert_eq!(w.inversion(), MarginalInversion::CubicNewton(2));
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn new_with(vertices: &[Vec3<T>], inversion: MarginalInversion) -> Result<Self, WarpError> {
+        Self::build(
+            Source::Directions(vertices.to_vec()),
+            vertices,
+            None,
+            inversion,
+        )
+    }
+
+    /// The polygon with corners `points` (in space) as seen from `observer`
+    /// on a receiver with normal `normal` (any positive length): the
+    /// directions are `points − observer`, expressed in a frame with
+    /// `normal` as `+z`. [`Warp::map`] returns world directions, and
+    /// [`Warp::pdf`], [`Warp::inverse`] and [`Warp::outside_by`] take them.
+    /// Uses the default [`MarginalInversion`].
+    ///
+    /// # Errors
+    /// As [`ProjectedPolygon::new`], plus [`WarpError::NonFinite`] /
+    /// [`WarpError::Degenerate`] for a non-finite observer or a zero or
+    /// non-finite normal.
+    ///
+    /// # Density
+    /// `max(n · ω, 0) / Π` per steradian, `n` the unit normal.
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::ProjectedPolygon;
+    /// use areawarp::{Vec3, Warp};
+    /// // A triangle light above a receiver tilted towards +x.
+    /// let light = [
+    ///     Vec3::new(1.0, 0.0, 3.0),
+    ///     Vec3::new(2.0, 1.0, 3.0),
+    ///     Vec3::new(1.0, 1.0, 3.5),
+    /// ];
+    /// let w = ProjectedPolygon::<f64>::from_points(
+    ///     &light,
+    ///     &Vec3::new(0.0, 0.0, 1.0),
+    ///     &Vec3::new(0.3, 0.0, 1.0),
+    /// )?;
+    /// let d = w.map(&0.5, &0.5);
+    /// assert!(w.outside_by(&d) < 1e-14);
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn from_points(
+        points: &[Vec3<T>],
+        observer: &Vec3<T>,
+        normal: &Vec3<T>,
+    ) -> Result<Self, WarpError> {
+        Self::from_points_with(points, observer, normal, MarginalInversion::default())
+    }
+
+    /// As [`ProjectedPolygon::from_points`], with the given marginal inversion.
+    ///
+    /// # Errors
+    /// As [`ProjectedPolygon::from_points`].
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
+    /// use areawarp::Vec3;
+    /// let light = [Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.0, 0.0, 2.0), Vec3::new(0.0, 1.0, 2.0)];
+    /// let o = Vec3::new(0.0, 0.0, 0.0);
+    /// let n = Vec3::new(0.0, 0.0, 1.0);
+    /// let w = ProjectedPolygon::<f64>::from_points_with(&light, &o, &n, MarginalInversion::Cubic)?;
+    /// assert_eq!(w.inversion(), MarginalInversion::Cubic);
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn from_points_with(
+        points: &[Vec3<T>],
+        observer: &Vec3<T>,
+        normal: &Vec3<T>,
+        inversion: MarginalInversion,
+    ) -> Result<Self, WarpError> {
+        if !observer.is_finite() {
+            return Err(WarpError::NonFinite { what: "observer" });
+        }
+        let n = match unit_direction(normal, "receiver normal") {
+            Ok(n) => n,
+            Err(WarpError::Degenerate { .. }) => {
+                return Err(WarpError::Degenerate {
+                    what: "the receiver normal is the zero vector",
+                });
+            }
+            Err(e) => return Err(e),
+        };
+        let frame = Frame::from_normal(n);
+        let mut local = Vec::with_capacity(points.len());
+        for p in points {
+            if !p.is_finite() {
+                return Err(WarpError::NonFinite {
+                    what: "polygon vertex",
+                });
+            }
+            local.push(frame.to_local(&p.sub(observer)));
+        }
+        Self::build(
+            Source::Points {
+                points: points.to_vec(),
+                observer: observer.clone(),
+                normal: normal.clone(),
+            },
+            &local,
+            Some(frame),
+            inversion,
+        )
+    }
+
+    fn build(
+        source: Source<T>,
+        local: &[Vec3<T>],
+        frame: Option<Frame<T>>,
+        inversion: MarginalInversion,
+    ) -> Result<Self, WarpError> {
+        let (vertices, solid_angle) = prepare(local)?;
+        let arcs = clip(&vertices)?;
+        let Built {
+            arcs,
+            lunes,
+            edges,
+            active,
+            fits,
+            measure,
+            solid_angle,
+        } = partition(arcs, solid_angle)?;
+        Ok(ProjectedPolygon {
+            source,
+            inversion,
+            frame,
+            arcs,
+            lunes,
+            edges,
+            active,
+            fits,
+            measure,
+            solid_angle,
+            two_pi: T::pi() * &T::from_i64(2),
+        })
+    }
+
+    /// The marginal inversion setting.
+    pub fn inversion(&self) -> MarginalInversion {
+        self.inversion
+    }
+
+    /// The same polygon with another marginal inversion (no recomputation:
+    /// the fitted cubics are shared by all settings).
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
+    /// use areawarp::Vec3;
+    /// let tri = [Vec3::new(0.2, 0.0, 1.0), Vec3::new(0.0, 0.3, 1.0), Vec3::new(-0.1, -0.1, 1.0)];
+    /// let w = ProjectedPolygon::<f64>::new(&tri)?.with_inversion(MarginalInversion::Cubic);
+    /// assert_eq!(w.inversion(), MarginalInversion::Cubic);
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn with_inversion(mut self, inversion: MarginalInversion) -> Self {
+        self.inversion = inversion;
+        self
+    }
+
+    /// The projected solid angle Π of the clipped polygon (= [`Warp::measure`]).
+    pub fn projected_solid_angle(&self) -> T {
+        self.measure.clone()
+    }
+
+    /// The solid angle of the polygon, before clipping against the horizon.
+    pub fn solid_angle(&self) -> T {
+        self.solid_angle.clone()
+    }
+
+    /// The number of lunes of positive projected area (the azimuth
+    /// intervals between consecutive vertex meridians that the polygon
+    /// covers).
+    pub fn lune_count(&self) -> usize {
+        self.active.len()
+    }
+
+    /// The largest number of edges crossing one lune (2 for a convex
+    /// polygon off the pole, 1 around it): the per-sample cost factor.
+    pub fn max_edges_per_lune(&self) -> usize {
+        self.lunes
+            .iter()
+            .map(|l| l.end - l.first)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The active lune that `u` falls in, and the normalized position
+    /// `y ∈ [0, 1]` in its marginal.
+    fn select(&self, u: &T) -> (usize, T) {
+        let t = clamp_unit(u) * &self.measure;
+        let na = self.active.len();
+        // The first active lune whose end is above t.
+        let k = self.active[..na - 1].partition_point(|&l| {
+            let lune = &self.lunes[l];
+            lune.cum_start.clone() + &lune.area <= t
+        });
+        let lune = &self.lunes[self.active[k]];
+        let y = ((t - &lune.cum_start) / &lune.area).clamp(&T::zero(), &T::one());
+        (k, y)
+    }
+
+    /// δ = F⁻¹(y) in active lune `k`, with the configured inversion.
+    fn invert_marginal(&self, k: usize, y: &T) -> T {
+        let lune = &self.lunes[self.active[k]];
+        let cdf = LuneCdf {
+            lune,
+            edges: &self.edges,
+        };
+        let fit = &self.fits[k];
+        match self.inversion {
+            MarginalInversion::Cubic => {
+                let (lo, hi) = fit.bracket(y);
+                fit.eval(y).clamp(&lo, &hi)
+            }
+            MarginalInversion::CubicNewton(steps) => fit.invert(&cdf, y, steps).x,
+            MarginalInversion::Newton => {
+                let newton = Newton {
+                    tolerance: Tolerance::Ulps(4),
+                    max_iterations: 100,
+                    start: None,
+                };
+                if *y > T::zero() && *y < T::one() {
+                    let (lo, hi) = fit.bracket(y);
+                    newton.solve_in(&cdf, y, fit.eval(y), lo, hi).x
+                } else {
+                    newton.invert(&cdf, y).x
+                }
+            }
+        }
+    }
+
+    /// The azimuth φ̂ = F⁻¹(u) (radians) that [`Warp::map`] uses for `u`,
+    /// computed with the configured inversion: the first half of the map,
+    /// exposed to measure the inversion error (backward error
+    /// `|u − F(φ̂)|` with [`ProjectedPolygon::marginal_cdf`], forward error
+    /// against a converged inversion). The result lies in
+    /// `[φ₀, φ₀ + 2π)`, φ₀ the azimuth of the first lune.
+    pub fn azimuth(&self, u: &T) -> T {
+        let (k, y) = self.select(u);
+        let lune = &self.lunes[self.active[k]];
+        let delta = self.invert_marginal(k, &y);
+        lune.start.clone() + &delta
+    }
+
+    /// The marginal CDF F(φ) ∈ [0, 1]: the fraction of the projected solid
+    /// angle between the first lune's meridian φ₀ and azimuth `phi`
+    /// (radians, any turn), evaluated in closed form.
+    pub fn marginal_cdf(&self, phi: &T) -> T {
+        let (l, delta) = self.locate_azimuth(phi);
+        let lune = &self.lunes[l];
+        let inside = if lune.active.is_some() {
+            let cdf = LuneCdf {
+                lune,
+                edges: &self.edges,
+            };
+            crate::recipe::Cdf1::cdf(&cdf, &delta) * &lune.area
+        } else {
+            T::zero()
+        };
+        ((lune.cum_start.clone() + &inside) / &self.measure).clamp(&T::zero(), &T::one())
+    }
+
+    /// The lune containing azimuth `phi` and the offset δ ∈ [0, Δ] in it.
+    fn locate_azimuth(&self, phi: &T) -> (usize, T) {
+        let phi0 = &self.lunes[0].start;
+        let mut p = phi.clone();
+        if !(p >= *phi0 && p < phi0.clone() + &self.two_pi) {
+            let turns = ((p.clone() - phi0) / &self.two_pi).floor();
+            p -= &(turns * &self.two_pi);
+            if p < *phi0 {
+                p = phi0.clone();
+            }
+        }
+        let l = self
+            .lunes
+            .partition_point(|lune| lune.start <= p)
+            .saturating_sub(1);
+        let lune = &self.lunes[l];
+        let delta = (p - &lune.start).clamp(&T::zero(), &lune.width);
+        (l, delta)
+    }
+
+    fn local(&self, p: &Vec3<T>) -> Vec3<T> {
+        match &self.frame {
+            Some(f) => f.to_local(p),
+            None => p.clone(),
+        }
+    }
+
+    /// Whether the unit local direction `d` lies in the clipped polygon.
+    fn contains(&self, d: &Vec3<T>) -> bool {
+        if d.z < T::zero() {
+            return false;
+        }
+        let (l, delta) = self.locate_azimuth(&d.y.atan2(&d.x));
+        let lune = &self.lunes[l];
+        if lune.active.is_none() {
+            return false;
+        }
+        let (s, c) = delta.sin_cos();
+        let r2 = d.x.square() + &d.y.square();
+        lune.contains(&self.edges, &c, &s, &r2)
+    }
+}
+
+/// Euclidean distance from the unit vector `d` to the arc.
+fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {
+    let ends = d.sub(&arc.a).norm().min(&d.sub(&arc.b).norm());
+    let w = d.sub(&arc.n.scale(&d.dot(&arc.n)));
+    match w.normalized() {
+        Some(q)
+            if arc.a.cross(&q).dot(&arc.n) >= T::zero()
+                && q.cross(&arc.b).dot(&arc.n) >= T::zero() =>
+        {
+            d.sub(&q).norm().min(&ends)
+        }
+        _ => ends,
+    }
+}
+
+impl<T: Real> Warp<T> for ProjectedPolygon<T> {
+    type Point = Vec3<T>;
+
+    fn map(&self, u: &T, v: &T) -> Vec3<T> {
+        let (k, y) = self.select(u);
+        let lune = &self.lunes[self.active[k]];
+        let delta = self.invert_marginal(k, &y);
+        let (s, c) = delta.sin_cos();
+        let cos_phi = lune.cos_a.clone() * &c - &(lune.sin_a.clone() * &s);
+        let sin_phi = lune.sin_a.clone() * &c + &(lune.cos_a.clone() * &s);
+        let (r2, z2) = lune.sample(&self.edges, &c, &s, &clamp_unit(v));
+        let r = r2.sqrt();
+        let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
+        match &self.frame {
+            Some(f) => f.to_world(&local),
+            None => local,
+        }
+    }
+
+    /// `max(cos θ, 0) / Π`, with `cos θ = n · p / |p|` (not zeroed outside
+    /// the polygon).
+    fn pdf(&self, p: &Vec3<T>) -> T {
+        let l = self.local(p);
+        let n = l.norm();
+        if !(n > T::zero()) {
+            return T::zero();
+        }
+        (l.z / &n).max(&T::zero()) / &self.measure
+    }
+
+    /// Π, the projected solid angle of the clipped polygon.
+    fn measure(&self) -> T {
+        self.measure.clone()
+    }
+
+    /// `(u, v) = (F(φ), G_φ(r²))`; `None` if `p` is not finite or lies
+    /// farther than `2^(−p/2)` outside the polygon.
+    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
+            return None;
+        }
+        let d = self.local(p).normalized()?;
+        let (mut l, mut delta) = self.locate_azimuth(&d.y.atan2(&d.x));
+        if self.lunes[l].active.is_none() {
+            // On a meridian bounding the polygon, within rounding: snap to
+            // the nearer end of the neighbouring active lunes.
+            let m = self.lunes.len();
+            let next = (1..m).map(|i| (l + i) % m).find(|&j| self.lunes[j].active.is_some())?;
+            let prev = (1..m)
+                .map(|i| (l + m - i) % m)
+                .find(|&j| self.lunes[j].active.is_some())?;
+            let to_next = self.lunes[l].width.clone() - &delta;
+            let to_prev = delta.clone();
+            if to_next <= to_prev {
+                l = next;
+                delta = T::zero();
+            } else {
+                l = prev;
+                delta = self.lunes[prev].width.clone();
+            }
+        }
+        let lune = &self.lunes[l];
+        let cdf = LuneCdf {
+            lune,
+            edges: &self.edges,
+        };
+        let f = crate::recipe::Cdf1::cdf(&cdf, &delta);
+        let u = ((lune.cum_start.clone() + &(f * &lune.area)) / &self.measure)
+            .clamp(&T::zero(), &T::one());
+        let (s, c) = delta.sin_cos();
+        let r2 = d.x.square() + &d.y.square();
+        let z2 = d.z.max(&T::zero()).square();
+        let v = lune.conditional_cdf(&self.edges, &c, &s, &r2, &z2);
+        Some((u, v))
+    }
+
+    /// `| |p| − 1 |` plus, for a direction outside the clipped polygon, the
+    /// Euclidean distance from `p/|p|` to its boundary.
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        if !p.is_finite() {
+            return T::max_value();
+        }
+        let l = self.local(p);
+        let n = l.norm();
+        let Some(d) = l.normalized() else {
+            return T::one();
+        };
+        let radial = (n - &T::one()).abs();
+        if self.contains(&d) {
+            return radial;
+        }
+        let mut best = T::max_value();
+        for arc in &self.arcs {
+            best = best.min(&arc_distance(&d, arc));
+        }
+        radial + &best
+    }
+}
+
+impl<T: Real> WarpFamily<T> for ProjectedPolygon<T> {
+    type At<S: Real> = ProjectedPolygon<S>;
+
+    /// Rebuilds the polygon from its input converted to `S`, with the same
+    /// [`MarginalInversion`].
+    fn at<S: Real>(&self) -> Result<ProjectedPolygon<S>, WarpError> {
+        let conv = |v: &[Vec3<T>]| -> Vec<Vec3<S>> { v.iter().map(|p| p.convert()).collect() };
+        match &self.source {
+            Source::Directions(v) => ProjectedPolygon::new_with(&conv(v), self.inversion),
+            Source::Points {
+                points,
+                observer,
+                normal,
+            } => ProjectedPolygon::from_points_with(
+                &conv(points),
+                &observer.convert(),
+                &normal.convert(),
+                self.inversion,
+            ),
+        }
+    }
+
+    fn name(&self) -> String {
+        "projected-polygon".to_string()
+    }
+}
+
+// Keeps the `Inverter` import meaningful for readers: `Newton::invert` is
+// the trait method used at the ends of a lune.
+#[allow(dead_code)]
+fn _uses_inverter<I: Inverter>(_: &I) {}
