@@ -19,6 +19,8 @@
 #![deny(missing_docs)]
 
 pub mod error;
+#[cfg(feature = "studies")]
+pub mod figures;
 pub mod harness;
 pub mod real;
 pub mod recipe;

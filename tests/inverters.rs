@@ -813,3 +813,71 @@ fn zero_density_at_the_root_gives_a_non_finite_derivative() {
     assert_eq!(Newton::default().invert(&PowCdf { n: 2 }, &0.0).x, 0.0);
     assert_eq!(Newton::default().invert(&Sin2Cdf, &1.0).x, 1.0);
 }
+
+/// Counts evaluations of F and F'.
+struct Counting<C> {
+    inner: C,
+    cdf_calls: std::cell::Cell<u32>,
+    pdf_calls: std::cell::Cell<u32>,
+}
+
+impl<C: Cdf1<f64>> Cdf1<f64> for Counting<C> {
+    fn cdf(&self, x: &f64) -> f64 {
+        self.cdf_calls.set(self.cdf_calls.get() + 1);
+        self.inner.cdf(x)
+    }
+    fn pdf(&self, x: &f64) -> f64 {
+        self.pdf_calls.set(self.pdf_calls.get() + 1);
+        self.inner.pdf(x)
+    }
+}
+
+#[test]
+fn iteration_caps_bound_the_work() {
+    // A CDF where Newton needs many steps (the root of x^7 at y = 1e-12
+    // sits where F' is tiny), capped at k iterations: exactly k updates,
+    // k + 1 evaluations of F (one for the start) and k of F'.
+    for k in [0u32, 1, 5, 10] {
+        let c = Counting {
+            inner: PowCdf { n: 7 },
+            cdf_calls: 0.into(),
+            pdf_calls: 0.into(),
+        };
+        let newton = Newton {
+            max_iterations: k,
+            ..Newton::default()
+        };
+        let inv = newton.invert(&c, &1e-12);
+        assert!(!inv.converged, "k = {k}: {inv:?}");
+        assert_eq!(inv.iterations, k);
+        assert_eq!(c.cdf_calls.get(), k + 1, "k = {k}");
+        assert_eq!(c.pdf_calls.get(), k, "k = {k}");
+        assert!(inv.x.is_finite() && (0.0..=1.0).contains(&inv.x));
+    }
+    // Bisection: k halvings, k + 1 evaluations of F (the last for the
+    // reported residual), no F' when not converged.
+    let c = Counting {
+        inner: PowCdf { n: 7 },
+        cdf_calls: 0.into(),
+        pdf_calls: 0.into(),
+    };
+    let inv = Bisection {
+        tolerance: Tolerance::Ulps(2),
+        max_iterations: 7,
+    }
+    .invert(&c, &0.3);
+    assert_eq!((inv.iterations, inv.converged), (7, false));
+    assert_eq!((c.cdf_calls.get(), c.pdf_calls.get()), (8, 0));
+    // The cubic: 4 evaluations of F to fit, then per polish step one F and
+    // one F' (plus the first F at the guess and the closing F').
+    let c = Counting {
+        inner: ExpCdf::<f64>::new(1.0),
+        cdf_calls: 0.into(),
+        pdf_calls: 0.into(),
+    };
+    let fit = FittedCubic::fit(&c);
+    assert_eq!(c.cdf_calls.get(), 4);
+    let inv = fit.invert(&c, &0.3, 2);
+    assert_eq!(inv.iterations, 2);
+    assert!(c.cdf_calls.get() <= 4 + 1 + 2 + 1 && c.pdf_calls.get() <= 2 + 1);
+}

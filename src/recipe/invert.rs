@@ -181,7 +181,7 @@ impl Inverter for ClosedForm {
 /// The returned x is always inside the domain.
 ///
 /// # Derivatives
-/// If the iteration stopped after a bisection (or at an exact root), one
+/// If the iteration converged after a bisection (or at an exact root), one
 /// more Newton update is applied (not counted in [`Inversion::iterations`]),
 /// so that over dual numbers x carries dx/dy = 1/F'(x) (module docs). It is
 /// accepted inside the bracket, or outside it if it moves x by at most 4
@@ -426,8 +426,10 @@ impl Newton {
                 break;
             }
         }
-        if !newton_last {
-            finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), converged);
+        // Only a converged x gets the closing update: at the iteration cap
+        // the caller gets exactly `max_iterations` updates, no more.
+        if converged && !newton_last {
+            finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), true);
         }
         Inversion {
             x,
@@ -469,10 +471,10 @@ impl Inverter for Newton {
 /// does. Otherwise the root
 /// is kept in `[lo, hi]` until `hi − lo` is below [`Bisection::tolerance`]
 /// (k · u · max(|lo|, |hi|) for [`Tolerance::Ulps`]) or the two ends are
-/// adjacent floats. x is then the midpoint, moved by one Newton update (not
-/// counted in [`Inversion::iterations`]) if that stays inside the bracket or
-/// within 4 units of roundoff of x, so that x keeps the bracket's accuracy
-/// and, over dual numbers, carries dx/dy = 1/F'(x).
+/// adjacent floats. x is then the midpoint, moved (if converged) by one
+/// Newton update (not counted in [`Inversion::iterations`]) if that stays
+/// inside the bracket or within 4 units of roundoff of x, so that x keeps
+/// the bracket's accuracy and, over dual numbers, carries dx/dy = 1/F'(x).
 #[derive(Clone, Copy, Debug)]
 pub struct Bisection {
     /// Stopping tolerance on the bracket width.
@@ -530,7 +532,9 @@ impl Inverter for Bisection {
         }
         let mut x = (lo.clone() + &hi) / &two;
         let mut f = cdf.cdf(&x) - y;
-        finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), converged);
+        if converged {
+            finish_with_newton(cdf, y, &mut x, &mut f, (&lo, &hi), (&dlo, &dhi), true);
+        }
         Inversion {
             x,
             iterations,

@@ -4,6 +4,8 @@ mod disk;
 mod hemisphere;
 mod phong;
 mod planar_triangle;
+pub mod polygon_measures;
+mod projected_polygon;
 mod sphere;
 mod spherical_triangle;
 mod turns;
@@ -12,6 +14,7 @@ pub use disk::{PolarDisk, PolarDiskRecipe};
 pub use hemisphere::{Hemisphere, HemisphereRecipe};
 pub use phong::{PhongLobe, PhongRecipe};
 pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe};
+pub use projected_polygon::{MarginalInversion, ProjectedPolygon};
 pub use sphere::{Sphere, SphereRecipe};
 pub use spherical_triangle::{
     SphericalTriangle, SphericalTriangleRecipe, SphericalTriangleVariant, hard_triangles,

@@ -60,19 +60,23 @@ pub fn arc_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> T {
 /// ```
 pub fn triangle_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
     let (a, b, c) = (unit(a), unit(b), unit(c));
-    let det = a.dot(&b.cross(&c));
+    // det(a, b, c) = a · ((b − a) × (c − a)): the differences keep the
+    // relative accuracy of tiny triangles, where a · (b × c) would lose it.
+    let det = a.dot(&b.sub(&a).cross(&c.sub(&a)));
     let den = T::one() + &a.dot(&b) + &b.dot(&c) + &c.dot(&a);
     det.atan2(&den) * &T::from_i64(2)
 }
 
 /// The solid angle of the region to the *left* of the closed polygon
-/// `v_0 → v_1 → … → v_0` (see the module docs), by the Gauss–Bonnet
-/// theorem: Ω = 2π − Σ τ_i, with τ_i the signed turning angle at vertex i,
+/// `v_0 → v_1 → … → v_0` (see the module docs), in `(0, 4π)` for a simple
+/// polygon; the other side of the boundary has `4π − Ω`.
 ///
-/// τ_i = atan2(det(v_{i−1}, v_i, v_{i+1}), (v_{i−1}·v_i)(v_i·v_{i+1}) − v_{i−1}·v_{i+1})
-///
-/// (unit vertices). For a simple polygon the result lies in `(0, 4π)`; the
-/// other side of the boundary has `4π − Ω`. A vertex where the boundary
+/// Computed as the fan Σ_i Ω(v_0, v_i, v_{i+1}) of signed triangles
+/// ([`triangle_solid_angle`], accurate also for tiny polygons), which is
+/// the answer modulo 4π; the multiple of 4π is taken from the Gauss–Bonnet
+/// theorem, Ω = 2π − Σ τ_i with τ_i the signed turning angle at vertex i
+/// (accurate to far better than 4π, but not to the relative accuracy of a
+/// small Ω, which is 2π minus a sum of angles). A vertex where the boundary
 /// folds straight back (τ = ±π) makes the result ambiguous by 2π.
 /// NaN for fewer than three or for zero / non-finite vertices.
 ///
@@ -97,27 +101,31 @@ pub fn oriented_solid_angle<T: Real>(vertices: &[Vec3<T>]) -> T {
         return T::zero() / T::zero();
     }
     let v: Vec<Vec3<T>> = vertices.iter().map(unit).collect();
+    let two_pi = T::pi() * &T::from_i64(2);
     let mut turning = T::zero();
     for i in 0..n {
         let (a, b, c) = (&v[(i + n - 1) % n], &v[i], &v[(i + 1) % n]);
-        turning += &turning_angle(a, b, c);
+        let (sin_part, cos_part) = turning_parts(a, b, c);
+        turning += &sin_part.atan2(&cos_part);
     }
-    T::pi() * &T::from_i64(2) - &turning
+    let gauss_bonnet = two_pi.clone() - &turning;
+    let mut fan = T::zero();
+    for i in 1..n - 1 {
+        fan += &triangle_solid_angle(&v[0], &v[i], &v[i + 1]);
+    }
+    let four_pi = two_pi * &T::from_i64(2);
+    let k = ((gauss_bonnet - &fan) / &four_pi + &T::from_ratio(1, 2)).floor();
+    fan + &(k * &four_pi)
 }
 
-/// The signed turning angle at `b` of the path `a → b → c` (unit vectors):
-/// positive for a left turn seen from outside the sphere.
-pub(crate) fn turning_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
-    let (sin_part, cos_part) = turning_parts(a, b, c);
-    sin_part.atan2(&cos_part)
-}
-
-/// `(det(a, b, c), (a·b)(b·c) − a·c)`: |n₁||n₂| times the sine and cosine
-/// of the turning angle at `b`, with n₁ = a × b, n₂ = b × c (unit `b`).
+/// `|n₁||n₂|` times the sine and cosine of the signed turning angle at `b`
+/// of the path `a → b → c` (unit vectors; positive for a left turn seen
+/// from outside the sphere), with n₁ = a × b, n₂ = b × c computed from
+/// differences (accurate for short edges).
 pub(crate) fn turning_parts<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> (T, T) {
-    let det = a.dot(&b.cross(c));
-    let cos_part = a.dot(b) * &b.dot(c) - &a.dot(c);
-    (det, cos_part)
+    let n1 = a.cross(&b.sub(a));
+    let n2 = b.cross(&c.sub(b));
+    (n1.cross(&n2).dot(b), n1.dot(&n2))
 }
 
 /// The solid angle of a simple spherical polygon, whatever its orientation:

@@ -125,6 +125,70 @@ fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
     Some((t.scale(&(T::one() / &len)), len))
 }
 
+/// The constants of the robust map measured from one end V of the arc AC
+/// (V = A for u ≤ 1/2, V = C for u > 1/2, W the other end), all divided by
+/// `d = sin c sin α = |det(A, B, C)| / sin b` (the same for both ends) so
+/// that they stay O(1) for tiny triangles.
+#[derive(Clone, Debug)]
+struct Anchor<T> {
+    /// V.
+    vertex: Vec3<T>,
+    /// `[W|V]`: the unit tangent at V along the arc towards W.
+    along: Vec3<T>,
+    /// `(1 + cos∠VB)/d`.
+    k1_d: T,
+    /// `sin∠VB · cos(angle at V)/d`.
+    k_d: T,
+    /// `1/sin²(∠VB/2) = 4/|V − B|²`.
+    inv_s2: T,
+    /// V − B and V + B.
+    v_minus_b: Vec3<T>,
+    v_plus_b: Vec3<T>,
+    /// `[V|B]`: the unit tangent at B towards V.
+    t_b: Vec3<T>,
+    /// The unit tangent at B perpendicular to `t_b`, towards W.
+    n_b: Vec3<T>,
+}
+
+impl<T: Real> Anchor<T> {
+    /// The constants for the end `vertex` of the arc, the other end being
+    /// `other`; `sign` is the sign of det(A, B, C) as ±1 for V = A (its
+    /// opposite for V = C), `d` the common |det|/sin b.
+    fn new(
+        vertex: &Vec3<T>,
+        other: &Vec3<T>,
+        b: &Vec3<T>,
+        d: &T,
+        sign: &T,
+    ) -> Result<Self, WarpError> {
+        let degenerate = WarpError::Degenerate {
+            what: "coincident or antipodal vertices",
+        };
+        let two = T::from_i64(2);
+        let (along, _) = tangent(vertex, other).ok_or(degenerate.clone())?;
+        let (t_b, _) = tangent(b, vertex).ok_or(degenerate.clone())?;
+        let v_minus_b = vertex.sub(b);
+        let v_plus_b = vertex.add(b);
+        let s2 = norm2(&v_minus_b) / T::from_i64(4);
+        // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
+        let k = v_minus_b.neg().dot(&along);
+        let k1 = norm2(&v_plus_b) / &two;
+        // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C).
+        let n_b = unit(&t_b.cross(b).scale(sign)).ok_or(degenerate)?;
+        Ok(Anchor {
+            vertex: vertex.clone(),
+            along,
+            k1_d: k1 / d,
+            k_d: k / d,
+            inv_s2: T::one() / &s2,
+            v_minus_b,
+            v_plus_b,
+            t_b,
+            n_b,
+        })
+    }
+}
+
 /// Uniform directions in a spherical triangle: Arvo's area-preserving map
 /// (Arvo 1995; Arvo 2001, §1.3.5).
 ///
@@ -210,18 +274,14 @@ pub struct SphericalTriangle<T> {
     inv_omega: T,
     /// sin c · sin α = sin a · sin γ = |det(A, B, C)| / sin b.
     d: T,
-    /// A-anchored constants: [C|A], 1 + cos c, sin c · cos α, A − B, A + B.
+    /// [C|A], 1 + cos c, sin c · cos α and A − B (inverse, recipe).
     c_perp: Vec3<T>,
     k1a: T,
     ka: T,
     a_minus_b: Vec3<T>,
-    a_plus_b: Vec3<T>,
-    /// C-anchored constants: [A|C], 1 + cos a, sin a · cos γ, C − B, C + B.
-    a_perp: Vec3<T>,
-    k1c: T,
-    kc: T,
-    c_minus_b: Vec3<T>,
-    c_plus_b: Vec3<T>,
+    /// The map's constants measured from A (u ≤ 1/2) and from C (u > 1/2).
+    from_a: Anchor<T>,
+    from_c: Anchor<T>,
     /// sin b and 1 + cos b (arc AC), for the inverse.
     sin_b: T,
     one_plus_cos_b: T,
@@ -306,21 +366,17 @@ impl<T: Real> SphericalTriangle<T> {
         let on_arc = WarpError::Degenerate {
             what: "coincident or antipodal vertices",
         };
-        let (c_perp, sin_b) = tangent(&a, &c).ok_or(on_arc.clone())?;
-        let (a_perp, _) = tangent(&c, &a).ok_or(on_arc)?;
+        let (c_perp, sin_b) = tangent(&a, &c).ok_or(on_arc)?;
         let d = abs_det.clone() / &sin_b;
         let a_plus_b = a.add(&b);
-        let c_plus_b = c.add(&b);
         let a_plus_c = a.add(&c);
         let k1a = norm2(&a_plus_b) / &two;
-        let k1c = norm2(&c_plus_b) / &two;
         let ka = ab.dot(&c_perp);
-        let kc = bc.neg().dot(&a_perp);
         // 1 + A·B + B·C + C·A = (1 + A·B) + C·(A + B).
         let den = k1a.clone() + &c.dot(&a_plus_b);
         let omega = abs_det.atan2(&den) * &two;
         let inv_omega = one.clone() / &omega;
-        if !(omega > zero) || !inv_omega.is_finite() {
+        if !(omega > zero) || !inv_omega.is_finite() || !(d > zero) || !d.is_finite() {
             return Err(WarpError::Degenerate {
                 what: "solid angle underflows",
             });
@@ -333,6 +389,8 @@ impl<T: Real> SphericalTriangle<T> {
         let n_ab = inward(&a, &ab).ok_or(normals_degenerate.clone())?;
         let n_bc = inward(&b, &bc).ok_or(normals_degenerate.clone())?;
         let n_ca = inward(&c, &ca).ok_or(normals_degenerate)?;
+        let from_a = Anchor::new(&a, &c, &b, &d, &sign)?;
+        let from_c = Anchor::new(&c, &a, &b, &d, &-sign.clone())?;
         let literal = Literal::new(&a, &b, &c);
         Ok(SphericalTriangle {
             variant,
@@ -343,13 +401,9 @@ impl<T: Real> SphericalTriangle<T> {
             k1a,
             ka,
             a_minus_b: ab.neg(),
-            a_plus_b,
             c_perp,
-            k1c,
-            kc,
-            c_minus_b: bc,
-            c_plus_b,
-            a_perp,
+            from_a,
+            from_c,
             one_plus_cos_b: norm2(&a_plus_c) / &two,
             sin_b,
             n_ab,
@@ -448,70 +502,72 @@ impl<T: Real> SphericalTriangle<T> {
         let u = clamp01(u);
         let v = clamp01(v);
         let one = T::one();
-        let (d_vec, e_vec) = if u <= T::from_ratio(1, 2) {
-            let h = u * &self.half_omega;
-            self.sub_vertex_offsets(
-                &h,
-                (&self.a, &self.c_perp, &self.k1a, &self.ka),
-                (&self.a_minus_b, &self.a_plus_b),
-            )
-        } else {
-            let h = (one.clone() - &u) * &self.half_omega;
-            self.sub_vertex_offsets(
-                &h,
-                (&self.c, &self.a_perp, &self.k1c, &self.kc),
-                (&self.c_minus_b, &self.c_plus_b),
-            )
-        };
-        self.point_on_arc(&d_vec, &e_vec, &v)
-    }
-
-    /// `(C_s − B, C_s + B)` for the sub-triangle of area `2h` measured from
-    /// the vertex `V` (A or C) of the arc AC.
-    ///
-    /// `r = tan(b_s/2) = k₁·sin h / (d·cos h − k·sin h)` (eq. T of the docs,
-    /// with `k₁ = 1 + cos c`, `d = sin c sin α`, `k = sin c cos α` for V = A);
-    /// `C_s − V = sin b_s·[C|A] − (1 − cos b_s)·V` with
-    /// `sin b_s = 2r/(1 + r²)`, `1 − cos b_s = r·sin b_s`. For `h ≤ Ω/4`
-    /// the denominator is `sin c·sin(α − h)` with `α − h ∈ (α/2, α]`: its two
-    /// terms never cancel by more than a factor 2.
-    #[inline]
-    fn sub_vertex_offsets(
-        &self,
-        h: &T,
-        (vertex, perp, k1, k): (&Vec3<T>, &Vec3<T>, &T, &T),
-        (v_minus_b, v_plus_b): (&Vec3<T>, &Vec3<T>),
-    ) -> (Vec3<T>, Vec3<T>) {
-        let (sh, ch) = h.sin_cos();
-        let r = (k1.clone() * &sh) / &(self.d.clone() * &ch - &(k.clone() * &sh));
-        let sin_bs = (r.clone() + &r) / &(T::one() + &r.square());
-        let one_minus_cos_bs = sin_bs.clone() * &r;
-        let delta = perp.scale(&sin_bs).sub(&vertex.scale(&one_minus_cos_bs));
-        (delta.add(v_minus_b), delta.add(v_plus_b))
-    }
-
-    /// `P = B + √v·c_p·(C·D + S²·E/C) − 2v·S²·B` for `D = C_s − B`,
-    /// `E = C_s + B` (see the type's docs).
-    #[inline]
-    fn point_on_arc(&self, d_vec: &Vec3<T>, e_vec: &Vec3<T>, v: &T) -> Vec3<T> {
+        let two = T::from_i64(2);
         let quarter = T::from_ratio(1, 4);
-        let s2 = norm2(d_vec) * &quarter;
-        let c2 = norm2(e_vec) * &quarter;
-        let cs = c2.sqrt();
-        let cp = (c2 + &((T::one() - v) * &s2)).sqrt();
-        let t = v.sqrt() * &cp;
-        let alpha_d = t.clone() * &cs;
-        let alpha_e = if cs > T::zero() {
-            t * &s2 / &cs
+        let (anchor, h) = if u <= T::from_ratio(1, 2) {
+            (&self.from_a, u * &self.half_omega)
         } else {
-            T::zero()
+            (&self.from_c, (one.clone() - &u) * &self.half_omega)
         };
-        let alpha_b = -(v.clone() * &s2 * &T::from_i64(2));
-        let offset = d_vec
-            .scale(&alpha_d)
-            .add(&e_vec.scale(&alpha_e))
-            .add(&self.b.scale(&alpha_b));
-        self.b.add(&offset)
+        let (sh, ch) = h.sin_cos();
+        // Step 1: tan(b_s/2) = n/m (eq. T divided by d); C_s − V = δ.
+        let n = anchor.k1_d.clone() * &sh;
+        let m = ch.clone() - &(anchor.k_d.clone() * &sh);
+        let g = (n.clone() + &n) / &(n.square() + &m.square());
+        let delta = anchor
+            .along
+            .scale(&(g.clone() * &m))
+            .sub(&anchor.vertex.scale(&(g * &n)));
+        let d_vec = delta.add(&anchor.v_minus_b);
+        let e_vec = delta.add(&anchor.v_plus_b);
+        // sin²(a_s/2), cos²(a_s/2) of the arc B C_s.
+        let s2 = norm2(&d_vec) * &quarter;
+        let c2 = norm2(&e_vec) * &quarter;
+        // The angle β_s at B between the arcs B V and B C_s (eq. B):
+        // (sin β_s, cos β_s) ∝ (sin h · m, 1 − sin h (k cos h + d sin h)/(d sin²(c/2))).
+        let nb = sh.clone() * &m * &anchor.inv_s2;
+        let cb = one.clone() - &(sh.clone() * &(anchor.k_d.clone() * &ch + &sh) * &anchor.inv_s2);
+        let nd = (nb.square() + &cb.square()).sqrt();
+        let w = if nd > T::zero() {
+            let inv = one.clone() / &nd;
+            anchor.t_b.scale(&(cb * &inv)).add(&anchor.n_b.scale(&(nb * &inv)))
+        } else {
+            anchor.t_b.clone()
+        };
+        // Step 2: θ = ∠BP with sin²(θ/2) = v sin²(a_s/2),
+        // cos²(θ/2) = cos²(a_s/2) + (1 − v) sin²(a_s/2).
+        let one_minus_v = one.clone() - &v;
+        let p = if v <= T::from_ratio(1, 2) {
+            // P = B + sin θ·W − (1 − cos θ)·B.
+            let sp2 = v * &s2;
+            let sp = sp2.sqrt();
+            let cp = (c2 + &(one_minus_v * &s2)).sqrt();
+            let offset = w
+                .scale(&(two.clone() * &sp * &cp))
+                .sub(&self.b.scale(&(sp2 * &two)));
+            self.b.add(&offset)
+        } else {
+            // From the other end: φ = a_s − θ = ∠C_sP,
+            // sin(φ/2) = sin(a_s/2 − θ/2) = sin²(a_s/2)(1 − v) / (sin(a_s/2) cos(θ/2) + cos(a_s/2) sin(θ/2)),
+            // P = C_s + sin φ·W_C − (1 − cos φ)·C_s with W_C = sin a_s·B − cos a_s·W
+            // the unit tangent at C_s towards B.
+            let sa = s2.sqrt();
+            let ca = c2.sqrt();
+            let sp = v.sqrt() * &sa;
+            let cp = (c2.clone() + &(one_minus_v.clone() * &s2)).sqrt();
+            let sh_phi = s2.clone() * &one_minus_v / &(sa.clone() * &cp + &(ca.clone() * &sp));
+            let ch_phi = ca.clone() * &cp + &(sa.clone() * &sp);
+            let sin_phi = sh_phi.clone() * &ch_phi * &two;
+            let one_minus_cos_phi = sh_phi.square() * &two;
+            let w_c = self.b.scale(&(sa * &ca * &two)).sub(&w.scale(&(c2 - &s2)));
+            let c_s = anchor.vertex.add(&delta);
+            let offset = w_c.scale(&sin_phi).sub(&c_s.scale(&one_minus_cos_phi));
+            c_s.add(&offset)
+        };
+        // |P| = 1 + O(u): one Newton step for 1/|P|, (3 − |P|²)/2, brings
+        // the norm to within about one unit of roundoff (no square root).
+        let x = norm2(&p);
+        p.scale(&((T::from_i64(3) - &x) / &two))
     }
 
     /// ψ(u, v) by the [`Literal`](SphericalTriangleVariant::Literal)

@@ -670,8 +670,3 @@ impl<T: Real> WarpFamily<T> for ProjectedPolygon<T> {
         "projected-polygon".to_string()
     }
 }
-
-// Keeps the `Inverter` import meaningful for readers: `Newton::invert` is
-// the trait method used at the ends of a lune.
-#[allow(dead_code)]
-fn _uses_inverter<I: Inverter>(_: &I) {}

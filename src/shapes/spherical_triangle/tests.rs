@@ -137,3 +137,48 @@ mod accuracy {
         }
     }
 }
+
+
+#[test]
+#[ignore = "report"]
+fn report_roundtrip() {
+    for (label, shape) in all_shapes() {
+        let w = tri(&shape).unwrap();
+        for variant in [SphericalTriangleVariant::Robust, SphericalTriangleVariant::Literal] {
+            let w = w.clone().with_variant(variant);
+            let (mut worst, mut at, mut worst_away, mut at_away, mut fails) = (0.0f64, (0.0, 0.0), 0.0f64, (0.0, 0.0), 0);
+            for &(u, v) in &points() {
+                let p = w.map(&u, &v);
+                match w.inverse(&p) {
+                    Some((u2, v2)) if u2.is_finite() && v2.is_finite() => {
+                        let e = (u - u2).abs().max((v - v2).abs());
+                        if e > worst { worst = e; at = (u, v); }
+                        if v >= 1e-6 && e > worst_away { worst_away = e; at_away = (u, v); }
+                    }
+                    _ => fails += 1,
+                }
+            }
+            println!("{label:<16} {variant:<8} worst {worst:.2e} at {at:?}  v>=1e-6: {worst_away:.2e} at {at_away:?} fails {fails}");
+        }
+    }
+}
+
+#[cfg(feature = "mpfr")]
+#[test]
+#[ignore = "debug"]
+fn debug_inverse() {
+    use crate::real::Mpfr256;
+    let (_, shape) = all_shapes().into_iter().find(|(n, _)| n == "hemi 2pi-1e-6").unwrap();
+    let w = tri(&shape).unwrap();
+    let r = w.at::<Mpfr256>().unwrap();
+    for (u, v) in [(0.5, 1.0), (0.5, 0.999999), (0.5, 0.5), (0.45, 1.0), (0.3, 1.0)] {
+        let p = w.map(&u, &v);
+        let inv = w.inverse(&p).unwrap();
+        let pr: Vec3<Mpfr256> = p.convert();
+        let invr = r.inverse(&pr).unwrap();
+        let exact = r.map(&Mpfr256::from_f64(u), &Mpfr256::from_f64(v));
+        let invx = r.inverse(&exact).unwrap();
+        println!("({u},{v}): f64 inv {inv:?}  256-inv of f64 point ({:.17}, {:.17})  256 inv of exact ({:.17},{:.17}) |E|={:e}",
+            invr.0.to_f64(), invr.1.to_f64(), invx.0.to_f64(), invx.1.to_f64(), p.add(&w.b).norm());
+    }
+}

@@ -1,0 +1,668 @@
+use super::reference::{Moments, PlanarLight};
+use super::*;
+use crate::harness::chi2::{Binning, run_chi_square};
+use crate::harness::extremes::{extremes_grid, random_points};
+use crate::harness::roundtrip::check_roundtrip;
+use crate::shapes::polygon_measures::{projected_solid_angle, solid_angle};
+use rand::rngs::Xoshiro256PlusPlus;
+use rand::{RngExt, SeedableRng};
+use std::f64::consts::PI;
+
+/// The test lights: planar polygons in space seen from the origin (normal +z).
+pub(super) fn lights() -> Vec<(&'static str, PlanarLight)> {
+    let star = |n: usize, c: (f64, f64), ro: f64, ri: f64, z: f64| -> Vec<[f64; 3]> {
+        (0..2 * n)
+            .map(|i| {
+                let a = PI * i as f64 / n as f64 + 0.1;
+                let r = if i % 2 == 0 { ro } else { ri };
+                [c.0 + r * a.cos(), c.1 + r * a.sin(), z]
+            })
+            .collect()
+    };
+    vec![
+        (
+            "convex",
+            PlanarLight::new(&[
+                [-0.3, 0.2, 1.0],
+                [0.6, 0.1, 1.0],
+                [0.7, 0.9, 1.0],
+                [-0.2, 0.8, 1.0],
+            ]),
+        ),
+        (
+            "comb",
+            PlanarLight::new(&[
+                [0.3, -0.3, 1.0],
+                [0.4, -0.3, 1.0],
+                [0.4, 0.3, 1.0],
+                [0.6, 0.3, 1.0],
+                [0.6, -0.3, 1.0],
+                [0.7, -0.3, 1.0],
+                [0.7, 0.3, 1.0],
+                [0.9, 0.3, 1.0],
+                [0.9, -0.3, 1.0],
+                [1.0, -0.3, 1.0],
+                [1.0, 0.4, 1.0],
+                [0.3, 0.4, 1.0],
+            ]),
+        ),
+        (
+            "around-pole",
+            PlanarLight::new(
+                &(0..5)
+                    .map(|i| {
+                        let a = 2.0 * PI * i as f64 / 5.0 + 0.3;
+                        [0.1 + 0.7 * a.cos(), -0.05 + 0.7 * a.sin(), 1.0]
+                    })
+                    .collect::<Vec<_>>(),
+            ),
+        ),
+        (
+            "star-around-pole",
+            PlanarLight::new(&star(6, (0.05, 0.1), 1.2, 0.5, 0.8)),
+        ),
+        (
+            "horizon",
+            PlanarLight::new(&[
+                [1.0, -0.5, 0.6],
+                [1.0, 0.5, 0.6],
+                [1.0, 0.5, -0.4],
+                [1.0, -0.5, -0.4],
+            ]),
+        ),
+        (
+            "horizon-split",
+            PlanarLight::new(&[
+                [1.0, -0.6, -0.5],
+                [1.0, 0.6, -0.5],
+                [1.0, 0.6, 0.7],
+                [1.0, 0.3, 0.7],
+                [1.0, 0.3, -0.2],
+                [1.0, -0.3, -0.2],
+                [1.0, -0.3, 0.7],
+                [1.0, -0.6, 0.7],
+            ]),
+        ),
+        (
+            "pole-vertex",
+            PlanarLight::new(&[[0.0, 0.0, 1.0], [0.8, 0.1, 1.0], [0.3, 0.7, 1.0]]),
+        ),
+        (
+            "pole-edge",
+            PlanarLight::new(&[[-0.5, 0.0, 1.0], [0.5, 0.0, 1.0], [0.0, 0.6, 1.0]]),
+        ),
+        (
+            "horizon-vertex",
+            PlanarLight::new(&[[1.0, -0.3, 0.0], [1.0, 0.4, 0.5], [0.6, 0.2, 0.9]]),
+        ),
+        (
+            "horizon-edge",
+            PlanarLight::new(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 1.0]]),
+        ),
+        (
+            "wide-horizon",
+            // Around the pole and below the horizon on one side: the
+            // clipped boundary follows the horizon for more than a quarter
+            // turn.
+            PlanarLight::new(&[
+                [-3.0, -1.0, 1.0],
+                [3.0, -1.0, 1.0],
+                [3.0, 1.0, -0.2],
+                [-3.0, 1.0, -0.2],
+            ]),
+        ),
+    ]
+}
+
+fn warp_of(light: &PlanarLight, inv: MarginalInversion) -> ProjectedPolygon<f64> {
+    ProjectedPolygon::new_with(&light.points, inv).expect("valid test polygon")
+}
+
+const SETTINGS: [MarginalInversion; 4] = [
+    MarginalInversion::Cubic,
+    MarginalInversion::CubicNewton(1),
+    MarginalInversion::CubicNewton(3),
+    MarginalInversion::Newton,
+];
+
+fn finite_on_shape<T: Real>(name: &str, w: &ProjectedPolygon<T>) {
+    let mut pts = extremes_grid();
+    pts.extend(random_points(200, 11));
+    let tol = T::unit_roundoff() * &T::from_i64(16);
+    for (u, v) in pts {
+        let p = w.map(&T::from_f64(u), &T::from_f64(v));
+        assert!(p.is_finite(), "{name} {u} {v}: {p:?}");
+        let out = w.outside_by(&p);
+        assert!(out <= tol, "{name} {u} {v}: {p:?} outside by {out}");
+        let d = w.pdf(&p);
+        assert!(d.is_finite() && d >= T::zero(), "{name}: pdf {d}");
+    }
+}
+
+#[test]
+fn projected_polygon_finite_on_shape_f64_and_f32() {
+    for (name, light) in lights() {
+        for inv in SETTINGS {
+            let w = warp_of(&light, inv);
+            finite_on_shape(name, &w);
+            finite_on_shape(name, &w.at::<f32>().unwrap());
+        }
+    }
+}
+
+#[test]
+fn projected_polygon_constructor_errors() {
+    let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+    let is_degenerate =
+        |r: Result<ProjectedPolygon<f64>, WarpError>| matches!(r, Err(WarpError::Degenerate { .. }));
+    let tri = [v(0.2, 0.0, 1.0), v(0.0, 0.3, 1.0), v(-0.1, -0.1, 1.0)];
+    assert!(ProjectedPolygon::new(&tri).is_ok());
+    assert!(is_degenerate(ProjectedPolygon::new(&tri[..2])));
+    let mut nan = tri.clone();
+    nan[1].y = f64::NAN;
+    assert!(matches!(
+        ProjectedPolygon::new(&nan),
+        Err(WarpError::NonFinite { .. })
+    ));
+    let mut inf = tri.clone();
+    inf[2].z = f64::INFINITY;
+    assert!(matches!(
+        ProjectedPolygon::new(&inf),
+        Err(WarpError::NonFinite { .. })
+    ));
+    // Zero direction; coincident (same direction, other length) and
+    // antipodal consecutive vertices.
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(0.0, 0.0, 0.0),
+        tri[1].clone(),
+        tri[2].clone()
+    ])));
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        tri[0].clone(),
+        tri[0].scale(&3.0),
+        tri[1].clone(),
+        tri[2].clone()
+    ])));
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(0.0, 0.0, 1.0),
+        v(0.0, 0.0, -1.0),
+        v(1.0, 0.0, 0.0)
+    ])));
+    // All below the horizon; touching it along an edge from below.
+    let below: Vec<_> = tri.iter().map(|p| v(p.x, p.y, -p.z)).collect();
+    assert!(is_degenerate(ProjectedPolygon::new(&below)));
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(1.0, 0.0, 0.0),
+        v(0.0, 1.0, 0.0),
+        v(0.5, 0.5, -1.0)
+    ])));
+    // A great circle: both sides have 2π.
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(1.0, 0.0, 0.0),
+        v(0.0, 1.0, 0.0),
+        v(-1.0, 0.0, 0.0),
+        v(0.0, -1.0, 0.0)
+    ])));
+    // A spike folding straight back, and collinear vertices only.
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(0.0, 0.0, 1.0),
+        v(0.5, 0.0, 1.0),
+        v(0.2, 0.0, 1.0),
+        v(0.2, 0.3, 1.0)
+    ])));
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(0.0, 0.0, 1.0),
+        v(0.5, 0.0, 1.0),
+        v(0.8, 0.0, 1.0)
+    ])));
+    // A bow tie (self-intersecting quadrilateral).
+    assert!(is_degenerate(ProjectedPolygon::new(&[
+        v(0.1, 0.1, 1.0),
+        v(0.6, 0.6, 1.0),
+        v(0.6, 0.1, 1.0),
+        v(0.1, 0.6, 1.0)
+    ])));
+    // from_points: zero or non-finite normal, non-finite observer.
+    let o = v(0.0, 0.0, 0.0);
+    assert!(is_degenerate(ProjectedPolygon::from_points(
+        &tri,
+        &o,
+        &v(0.0, 0.0, 0.0)
+    )));
+    assert!(matches!(
+        ProjectedPolygon::from_points(&tri, &o, &v(0.0, f64::NAN, 1.0)),
+        Err(WarpError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        ProjectedPolygon::from_points(&tri, &v(f64::INFINITY, 0.0, 0.0), &v(0.0, 0.0, 1.0)),
+        Err(WarpError::NonFinite { .. })
+    ));
+    // The observer in the polygon's plane: every direction is horizontal.
+    assert!(is_degenerate(ProjectedPolygon::from_points(
+        &tri,
+        &v(0.0, 0.0, 1.0),
+        &v(0.0, 0.0, 1.0)
+    )));
+}
+
+#[test]
+fn projected_polygon_either_orientation_same_polygon() {
+    for (name, light) in lights() {
+        let w = warp_of(&light, MarginalInversion::Newton);
+        let mut rev = light.points.clone();
+        rev.reverse();
+        let r = ProjectedPolygon::new(&rev).unwrap();
+        assert!((w.measure() - r.measure()).abs() < 1e-14, "{name}");
+        for (u, v) in random_points(20, 3) {
+            let a = w.map(&u, &v);
+            assert!(r.outside_by(&a) < 1e-14, "{name}");
+        }
+    }
+}
+
+/// Π against Lambert's formula (unclipped polygons) and against the
+/// independent quadrature (all).
+#[test]
+fn projected_polygon_measure_matches_lambert_and_quadrature() {
+    let up = Vec3::new(0.0, 0.0, 1.0);
+    for (name, light) in lights() {
+        let w = warp_of(&light, MarginalInversion::Newton);
+        let reference = light.moments().area;
+        assert!(
+            (w.measure() - reference).abs() < 1e-12,
+            "{name}: Π = {} vs quadrature {reference}",
+            w.measure()
+        );
+        if light.points.iter().all(|p| p.z >= 0.0) {
+            let lambert = projected_solid_angle(&light.points, &up).abs();
+            assert!(
+                (w.measure() - lambert).abs() < 1e-14,
+                "{name}: Π = {} vs Lambert {lambert}",
+                w.measure()
+            );
+            // Lambert against the quadrature: the formula itself.
+            assert!((lambert - reference).abs() < 1e-12, "{name}");
+        }
+        let omega = solid_angle(&light.points);
+        assert!((w.solid_angle() - omega).abs() < 1e-13, "{name}");
+        assert!(w.measure() <= omega.min(PI) + 1e-15, "{name}");
+    }
+}
+
+#[test]
+fn projected_polygon_pdf_and_roundtrip() {
+    for (name, light) in lights() {
+        let w = warp_of(&light, MarginalInversion::Newton);
+        let mut pts = extremes_grid();
+        pts.extend(random_points(300, 5));
+        for &(u, v) in &pts {
+            let p = w.map(&u, &v);
+            let want = p.z / p.norm() / w.measure();
+            assert!((w.pdf(&p) - want).abs() <= 1e-15 * want.max(1.0), "{name}");
+        }
+        let rt = check_roundtrip::<f64, _>(&w, &pts).unwrap();
+        assert_eq!(rt.failures, 0, "{name}: {rt:?}");
+        assert!(rt.max_image_ulps < 1e4, "{name}: {rt:?}");
+        // Away from the pole (where u is not defined), parameters come back.
+        let inner = random_points(300, 6);
+        let rt = check_roundtrip::<f64, _>(&w, &inner).unwrap();
+        assert!(rt.median_error < 1e-13, "{name}: {rt:?}");
+        let rt32 = check_roundtrip::<f32, _>(&w, &inner).unwrap();
+        assert_eq!(rt32.failures, 0, "{name}: {rt32:?}");
+        assert!(rt32.median_error < 1e-4, "{name}: {rt32:?}");
+    }
+    // Off the polygon: no inverse.
+    let w = warp_of(&lights()[0].1, MarginalInversion::Newton);
+    assert!(w.inverse(&Vec3::new(0.0, 0.0, -1.0)).is_none());
+    assert!(w.inverse(&Vec3::new(-1.0, -1.0, 0.2)).is_none());
+    assert!(w.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_none());
+    assert!(w.outside_by(&Vec3::new(-1.0, -1.0, 0.2)) > 0.1);
+}
+
+#[test]
+fn projected_polygon_from_points_frame() {
+    // The same light seen from an observer at o on a tilted receiver: the
+    // sampled world directions must follow the local-frame polygon.
+    let light = &lights()[1].1;
+    let o = Vec3::new(0.1, -0.2, 0.05);
+    let n = Vec3::new(0.2, -0.1, 1.0);
+    let w = ProjectedPolygon::from_points(&light.points, &o, &n).unwrap();
+    let nn = n.normalized().unwrap();
+    for (u, v) in random_points(200, 9) {
+        let d = w.map(&u, &v);
+        assert!((d.norm() - 1.0).abs() < 1e-15);
+        assert!(w.outside_by(&d) < 1e-14);
+        assert!(d.dot(&nn) >= 0.0);
+        assert!((w.pdf(&d) - d.dot(&nn) / w.measure()).abs() < 1e-14);
+        // The ray from o along d hits the light's plane inside the light.
+        let shifted: Vec<[f64; 3]> = light
+            .points
+            .iter()
+            .map(|p| {
+                let q = p.sub(&o);
+                [q.x, q.y, q.z]
+            })
+            .collect();
+        assert!(PlanarLight::new(&shifted).inside(&d));
+        let (u2, v2) = w.inverse(&d).unwrap();
+        assert!((u2 - u).abs() < 1e-10 && (v2 - v).abs() < 1e-10);
+    }
+    let g = w.at::<f32>().unwrap();
+    assert!((g.measure() as f64 - w.measure()).abs() < 1e-5);
+}
+
+#[test]
+fn projected_polygon_family_and_settings() {
+    let light = &lights()[0].1;
+    let w = warp_of(light, MarginalInversion::CubicNewton(2));
+    assert_eq!(w.name(), "projected-polygon");
+    assert_eq!(w.at::<f32>().unwrap().inversion(), MarginalInversion::CubicNewton(2));
+    assert_eq!(
+        w.clone().with_inversion(MarginalInversion::Cubic).inversion(),
+        MarginalInversion::Cubic
+    );
+    assert_eq!(MarginalInversion::default(), MarginalInversion::Newton);
+    assert_eq!(w.lune_count(), 3);
+    assert_eq!(w.max_edges_per_lune(), 2);
+    let comb = warp_of(&lights()[1].1, MarginalInversion::Newton);
+    assert_eq!(comb.max_edges_per_lune(), 6);
+    let pole = warp_of(&lights()[2].1, MarginalInversion::Newton);
+    assert_eq!(pole.max_edges_per_lune(), 1);
+}
+
+/// More Newton steps, smaller backward error; Newton converged to the
+/// rounding level.
+#[test]
+fn projected_polygon_inversion_settings_converge() {
+    for (name, light) in lights() {
+        let w = warp_of(&light, MarginalInversion::Newton);
+        let mut prev = f64::INFINITY;
+        for inv in SETTINGS {
+            let wi = w.clone().with_inversion(inv);
+            let mut worst: f64 = 0.0;
+            for (u, _) in random_points(200, 21) {
+                let phi = wi.azimuth(&u);
+                worst = worst.max((w.marginal_cdf(&phi) - u).abs());
+            }
+            assert!(worst <= prev.max(1e-15), "{name} {inv:?}: {worst} > {prev}");
+            if inv == MarginalInversion::Newton {
+                assert!(worst < 1e-14, "{name}: {worst}");
+            }
+            if inv == MarginalInversion::Cubic {
+                assert!(worst < 1e-2, "{name}: {worst}");
+            }
+            prev = worst;
+        }
+    }
+}
+
+/// Moments of a warp's samples: 16 independent jittered N×N replicas.
+fn sample_moments(w: &ProjectedPolygon<f64>, n: usize, seed: u64) -> Vec<[f64; 5]> {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    (0..16)
+        .map(|_| {
+            let mut acc = [0.0; 5];
+            for i in 0..n {
+                for j in 0..n {
+                    let u = (i as f64 + rng.random::<f64>()) / n as f64;
+                    let v = (j as f64 + rng.random::<f64>()) / n as f64;
+                    let p = w.map(&u, &v);
+                    let f = [p.x, p.y, p.x * p.x, p.x * p.y, p.y * p.y];
+                    for k in 0..5 {
+                        acc[k] += f[k];
+                    }
+                }
+            }
+            acc.map(|a| a / (n * n) as f64)
+        })
+        .collect()
+}
+
+/// Largest |mean − exact| / σ(mean) over the five moments.
+fn moment_z_scores(w: &ProjectedPolygon<f64>, m: &Moments, n: usize, seed: u64) -> [f64; 5] {
+    let reps = sample_moments(w, n, seed);
+    let exact = [m.x, m.y, m.xx, m.xy, m.yy].map(|x| x / m.area);
+    let mut z = [0.0; 5];
+    for k in 0..5 {
+        let mean = reps.iter().map(|r| r[k]).sum::<f64>() / reps.len() as f64;
+        let var = reps.iter().map(|r| (r[k] - mean).powi(2)).sum::<f64>() / (reps.len() - 1) as f64;
+        let sigma = (var / reps.len() as f64).sqrt().max(1e-13);
+        z[k] = (mean - exact[k]) / sigma;
+    }
+    z
+}
+
+fn check_moments(n: usize, bound: f64) {
+    for (name, light) in lights() {
+        let w = warp_of(&light, MarginalInversion::Newton);
+        let m = light.moments();
+        let z = moment_z_scores(&w, &m, n, 7);
+        println!("{name}: z-scores {z:.2?}");
+        assert!(z.iter().all(|x| x.abs() < bound), "{name}: {z:?}");
+    }
+}
+
+/// ~10⁵ stratified samples per polygon (16 replicas of 79²).
+#[test]
+fn projected_polygon_moments_match_exact() {
+    check_moments(79, 5.0);
+}
+
+/// 10⁶ stratified samples per polygon (16 replicas of 250²).
+#[test]
+#[ignore]
+fn projected_polygon_moments_match_exact_1e6() {
+    check_moments(250, 5.0);
+}
+
+/// χ² bins: equal azimuth sectors × equal r² bins (the projected-area
+/// measure is r dr dφ = ½ d(r²) dφ, so the cells are map-independent).
+struct AzimuthRadiusBins {
+    nphi: usize,
+    ns: usize,
+    probs: Vec<f64>,
+}
+
+impl Binning for AzimuthRadiusBins {
+    fn n_bins(&self) -> usize {
+        self.nphi * self.ns
+    }
+    fn bin(&self, p: &Vec3<f64>) -> Option<usize> {
+        let d = p.normalized()?;
+        if d.z < -1e-9 || (p.norm() - 1.0).abs() > 1e-9 {
+            return None;
+        }
+        let mut a = d.y.atan2(d.x) / (2.0 * PI);
+        if a < 0.0 {
+            a += 1.0;
+        }
+        let i = ((a * self.nphi as f64) as usize).min(self.nphi - 1);
+        let r2 = d.x * d.x + d.y * d.y;
+        let j = ((r2 * self.ns as f64) as usize).min(self.ns - 1);
+        Some(i * self.ns + j)
+    }
+    fn probability(&self, i: usize) -> f64 {
+        self.probs[i]
+    }
+}
+
+fn check_chi2(samples: usize) {
+    let all = lights();
+    for (name, light) in &all {
+        let bins = AzimuthRadiusBins {
+            nphi: 48,
+            ns: 12,
+            probs: light.cell_probabilities(48, 12),
+        };
+        let w = warp_of(light, MarginalInversion::Newton);
+        let out = run_chi_square(&w, &bins, samples, 3, 0.01, all.len() as u32);
+        println!(
+            "{name}: χ² = {:.1}, dof = {}, p = {:.3}",
+            out.statistic, out.dof, out.p_value
+        );
+        assert!(out.passed, "{name}: {out:?}");
+    }
+}
+
+#[test]
+fn projected_polygon_chi_square() {
+    check_chi2(100_000);
+}
+
+#[test]
+#[ignore]
+fn projected_polygon_chi_square_1e6() {
+    check_chi2(1_000_000);
+}
+
+/// The bare cubic is biased: with enough samples the χ² test or the
+/// moments see it on a polygon with a curved marginal (sanity check that
+/// the tests can fail).
+#[test]
+fn projected_polygon_wrong_conditional_is_detected() {
+    // Sampling z uniformly in z² the way eq. (1.60) prints it,
+    // ẑ = √(ξ₂ − Z_{ℓ−1} + z_ℓ), is not even a valid height for a single
+    // interval: emulate its density, uniform in z (not z²), instead.
+    let light = &lights()[2].1;
+    let w = warp_of(light, MarginalInversion::Newton);
+    let m = light.moments();
+    // Remap v so that z is uniform on the interval rather than z².
+    let mut acc = [0.0; 3];
+    let n = 300;
+    for i in 0..n {
+        for j in 0..n {
+            let (u, v) = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+            let p0 = w.map(&u, &0.0);
+            let p1 = w.map(&u, &1.0);
+            let z = p0.z + v * (p1.z - p0.z);
+            let r = (1.0 - z * z).sqrt();
+            let rho = p1.x.hypot(p1.y).max(1e-300);
+            let (x, y) = (r * p1.x / rho, r * p1.y / rho);
+            acc[0] += x * x;
+            acc[1] += y * y;
+            acc[2] += 1.0;
+        }
+    }
+    let wrong = (acc[0] + acc[1]) / acc[2];
+    let right = (m.xx + m.yy) / m.area;
+    assert!((wrong - right).abs() > 1e-3, "{wrong} {right}");
+}
+
+#[cfg(feature = "mpfr")]
+mod mpfr {
+    use super::*;
+    use crate::harness::jacobian::check_jacobian;
+    use crate::harness::precision::check_precision;
+    use crate::real::Mpfr256;
+    use crate::recipe::Cdf1;
+
+    type M = Mpfr256;
+
+    /// The area element of the map, with exact partials at 256 bits, is the
+    /// reciprocal of the claimed density: |ψ_u × ψ_v| · cos θ / Π = 1.
+    fn jacobian_for(names: &[&str], extra: usize) {
+        for (name, light) in lights() {
+            if !names.is_empty() && !names.contains(&name) {
+                continue;
+            }
+            let w = warp_of(&light, MarginalInversion::Newton);
+            let mut pts = extremes_grid();
+            pts.extend(random_points(extra, 13));
+            let r = check_jacobian(&w, &pts).unwrap();
+            println!(
+                "{name}: max |J·pdf − 1| = {:.3e} ({} nudged)",
+                r.max_rel_deviation, r.nudged
+            );
+            assert!(r.passes(1e-60), "{name}: {r:?}");
+        }
+    }
+
+    #[test]
+    fn projected_polygon_jacobian_256_bits() {
+        jacobian_for(&["convex", "around-pole", "horizon-split"], 0);
+    }
+
+    #[test]
+    #[ignore]
+    fn projected_polygon_jacobian_256_bits_all() {
+        jacobian_for(&[], 64);
+    }
+
+    /// The cubic alone is *not* area-preserving: the check sees it.
+    #[test]
+    fn projected_polygon_jacobian_sees_the_cubic() {
+        let w = warp_of(&lights()[0].1, MarginalInversion::Cubic);
+        let r = check_jacobian(&w, &random_points(16, 4)).unwrap();
+        assert!(r.max_rel_deviation > 1e-8, "{r:?}");
+    }
+
+    /// F' is the derivative of F and L(δ)/2 the density of projected area,
+    /// at 256 bits; F(Δ) = 1.
+    #[test]
+    fn projected_polygon_marginal_density_is_derivative() {
+        for (name, light) in lights() {
+            let w = warp_of(&light, MarginalInversion::Newton).at::<M>().unwrap();
+            let h = M::exp2i(-80);
+            for &k in &w.active {
+                let lune = &w.lunes[k];
+                let cdf = LuneCdf {
+                    lune,
+                    edges: &w.edges,
+                };
+                for (a, b) in [(1, 7), (1, 2), (5, 6)] {
+                    let x = lune.width.clone() * &M::from_ratio(a, b);
+                    let fd = (cdf.cdf(&(x.clone() + &h)) - &cdf.cdf(&(x.clone() - &h)))
+                        / &(h.clone() * &M::from_i64(2));
+                    let d = cdf.pdf(&x);
+                    assert!(
+                        (fd.clone() - &d).abs() <= M::exp2i(-140) * &d.abs().max(&M::one()),
+                        "{name}: {fd} vs {d}"
+                    );
+                }
+                assert_eq!(cdf.cdf(&lune.width), M::one());
+            }
+        }
+    }
+
+    #[test]
+    fn projected_polygon_precision_f64_f32() {
+        for (name, light) in lights() {
+            let w = warp_of(&light, MarginalInversion::Newton);
+            let mut pts = extremes_grid();
+            pts.extend(random_points(64, 17));
+            let r64 = check_precision::<f64, _>(&w, &pts).unwrap();
+            let r32 = check_precision::<f32, _>(&w, &pts).unwrap();
+            println!(
+                "{name}: f64 max {:.1} median {:.2} ulps; f32 max {:.1} median {:.2} ulps",
+                r64.max_ulps, r64.median_ulps, r32.max_ulps, r32.median_ulps
+            );
+            assert!(r64.passes(1e3), "{name}: {r64:?}");
+            assert!(r32.passes(1e3), "{name}: {r32:?}");
+        }
+    }
+}
+
+#[test]
+fn zz_debug_lights() {
+    for (name, light) in lights() {
+        let r = ProjectedPolygon::<f64>::new(&light.points);
+        println!("{name}: {:?}", r.as_ref().err());
+    }
+}
+
+#[test]
+fn zz_debug_convex() {
+    let light = &lights()[0].1;
+    let (v, _) = super::build::prepare(&light.points).unwrap();
+    let arcs = super::build::clip(&v).unwrap();
+    for a in &arcs {
+        println!("arc {:?} -> {:?} n {:?} az {} {}", a.a, a.b, a.n, a.a.y.atan2(a.a.x).to_degrees(), a.b.y.atan2(a.b.x).to_degrees());
+        // r2 of endpoints and crossing at endpoints azimuths
+        for p in [&a.a, &a.b] {
+            let phi = p.y.atan2(p.x);
+            let e = super::lune::LuneEdge::new(&a.n.x, &a.n.y, &a.n.z, &phi.cos(), &phi.sin());
+            let (r2, _) = e.crossing(&1.0, &0.0);
+            println!("   r2 vertex {} formula {}", p.x * p.x + p.y * p.y, r2);
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! The rectangle as the observer sees it: validation of the input, the
+//! orthonormal frame `(x̂, ŷ, ẑ)` along the edges, and the local coordinates
+//! `[x₀, x₁] × [y₀, y₁]` of the rectangle in the plane `z = −h` (observer at
+//! the origin), scaled by a power of two to be O(1).
+
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::vector::Vec3;
+
+/// How far from perpendicular the edges may be, in units of roundoff of the
+/// precision the data were given in: `|cos ∠(e_x, e_y)| ≤ 64 · 2^-p`.
+pub(super) const PERPENDICULAR_ULPS: i64 = 64;
+
+/// The validated rectangle, its frame and its local coordinates.
+#[derive(Clone, Debug)]
+pub(super) struct Geometry<T> {
+    /// The corner `s`.
+    pub s: Vec3<T>,
+    /// The edge `e_x` as given.
+    pub ex: Vec3<T>,
+    /// The edge `e_y` made exactly perpendicular to `e_x`:
+    /// `e_y − (e_y·x̂) x̂` (equal to `e_y` for perpendicular input).
+    pub ey: Vec3<T>,
+    /// The observer `o`.
+    pub o: Vec3<T>,
+    /// `e_x / |e_x|`.
+    pub xhat: Vec3<T>,
+    /// The unit vector along the squared-up `e_y`.
+    pub yhat: Vec3<T>,
+    /// The unit normal of the plane on the observer's side: the rectangle
+    /// lies at local `z = −h < 0`.
+    pub zhat: Vec3<T>,
+    /// Distance from the observer to the plane, in world units.
+    pub h_world: T,
+    /// `x₀ = (s − o)·x̂`, scaled.
+    pub x0: T,
+    /// `|e_x|`, scaled.
+    pub lx: T,
+    /// `y₀ = (s − o)·ŷ`, scaled.
+    pub y0: T,
+    /// `|e_y|` (squared up), scaled.
+    pub ly: T,
+    /// `h = −(s − o)·ẑ > 0`, scaled.
+    pub h: T,
+}
+
+fn non_finite(what: &'static str) -> WarpError {
+    WarpError::NonFinite { what }
+}
+
+fn degenerate(what: &'static str) -> WarpError {
+    WarpError::Degenerate { what }
+}
+
+impl<T: Real> Geometry<T> {
+    /// Validates the input and builds the frame; `bits` is the precision the
+    /// data were given in (it sets the perpendicularity tolerance).
+    pub fn new(
+        s: Vec3<T>,
+        ex: Vec3<T>,
+        ey: Vec3<T>,
+        o: Vec3<T>,
+        bits: u32,
+    ) -> Result<Self, WarpError> {
+        if !s.is_finite() {
+            return Err(non_finite("corner s"));
+        }
+        if !ex.is_finite() {
+            return Err(non_finite("edge ex"));
+        }
+        if !ey.is_finite() {
+            return Err(non_finite("edge ey"));
+        }
+        if !o.is_finite() {
+            return Err(non_finite("observer o"));
+        }
+        let one = T::one();
+        let lx_world = ex.norm();
+        if !(lx_world > T::zero()) {
+            return Err(degenerate("zero-length edge ex"));
+        }
+        if !lx_world.is_finite() {
+            return Err(non_finite("length of edge ex"));
+        }
+        let ey_len = ey.norm();
+        if !(ey_len > T::zero()) {
+            return Err(degenerate("zero-length edge ey"));
+        }
+        if !ey_len.is_finite() {
+            return Err(non_finite("length of edge ey"));
+        }
+        let xhat = ex.scale(&(one.clone() / &lx_world));
+        let along = xhat.dot(&ey);
+        let cosine = along.clone() / &ey_len;
+        let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
+        if !(cosine.abs() <= tol) {
+            return Err(WarpError::InvalidParameter {
+                name: "ey",
+                expected: "an edge perpendicular to ex (|cos| ≤ 64 units of roundoff)",
+            });
+        }
+        let ey_perp = ey.sub(&xhat.scale(&along));
+        let ly_world = ey_perp.norm();
+        let yhat = ey_perp.scale(&(one / &ly_world));
+        let zplus = xhat.cross(&yhat);
+        let d = s.sub(&o);
+        let zc = d.dot(&zplus);
+        if zc.is_nan() {
+            return Err(non_finite("observer offset"));
+        }
+        if zc == T::zero() {
+            return Err(degenerate("observer on the rectangle's plane"));
+        }
+        let (zhat, h_world) = if zc > T::zero() {
+            (zplus.neg(), zc)
+        } else {
+            (zplus, -zc)
+        };
+        let x0w = d.dot(&xhat);
+        let y0w = d.dot(&yhat);
+        // Scale the local lengths by a power of two (exactly) so that the
+        // largest is in [1, 2): squares and products of four lengths then
+        // neither overflow nor underflow in f32.
+        let m = x0w
+            .abs()
+            .max(&y0w.abs())
+            .max(&lx_world)
+            .max(&ly_world)
+            .max(&h_world)
+            .to_f64();
+        let e = if m > 0.0 && m.is_finite() {
+            (m.log2().floor() as i32).clamp(-120, 120)
+        } else {
+            0
+        };
+        let scale = T::exp2i(-e);
+        Ok(Geometry {
+            x0: x0w * &scale,
+            lx: lx_world * &scale,
+            y0: y0w * &scale,
+            ly: ly_world * &scale,
+            h: h_world.clone() * &scale,
+            s,
+            ex,
+            ey: ey_perp,
+            o,
+            xhat,
+            yhat,
+            zhat,
+            h_world,
+        })
+    }
+
+    /// The world point `s + ξ e_x + η e_y`.
+    pub fn point(&self, xi: &T, eta: &T) -> Vec3<T> {
+        self.s.add(&self.ex.scale(xi)).add(&self.ey.scale(eta))
+    }
+
+    /// The unit world direction of the local vector `(x, y, −h)`.
+    pub fn direction(&self, x: &T, y: &T) -> Vec3<T> {
+        let r2 = x.square() + &y.square() + &self.h.square();
+        let r = r2.sqrt();
+        if !(r > T::zero()) || !r.is_finite() {
+            return self.zhat.neg();
+        }
+        let inv = T::one() / &r;
+        let (a, b, c) = (x.clone() * &inv, y.clone() * &inv, self.h.clone() * &inv);
+        Vec3::new(
+            a.clone() * &self.xhat.x + &(b.clone() * &self.yhat.x) - &(c.clone() * &self.zhat.x),
+            a.clone() * &self.xhat.y + &(b.clone() * &self.yhat.y) - &(c.clone() * &self.zhat.y),
+            a * &self.xhat.z + &(b * &self.yhat.z) - &(c * &self.zhat.z),
+        )
+    }
+
+    /// The direction `w` in local components `(w·x̂, w·ŷ, −w·ẑ)` after
+    /// normalization; `None` for a zero or non-finite vector.
+    pub fn local_direction(&self, w: &Vec3<T>) -> Option<(T, T, T)> {
+        if !w.is_finite() {
+            return None;
+        }
+        let m = w.max_abs();
+        if !(m > T::zero()) {
+            return None;
+        }
+        let w = w.scale(&(T::one() / &m));
+        let w = w.scale(&(T::one() / &w.norm_squared().sqrt()));
+        Some((w.dot(&self.xhat), w.dot(&self.yhat), -w.dot(&self.zhat)))
+    }
+}
