@@ -17,7 +17,10 @@
 //! Criterion reports the time per batch of 4096 and the throughput in
 //! samples per second; ns/sample = batch time / 4096.
 
-use areawarp::shapes::{SphericalTriangle, SphericalTriangleVariant};
+use areawarp::shapes::{
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+    ordinary_rectangles,
+};
 use areawarp::{Real, Vec3, Warp};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -114,5 +117,78 @@ fn triangle(c: &mut Criterion) {
     triangle_in::<f64>(c);
 }
 
-criterion_group!(benches, triangle);
+// ---------------------------------------------------------------------------
+// Spherical rectangle.
+
+/// The crate's `oblique` ordinary rectangle (1.3 × 0.7, generic orientation,
+/// observer off to the side): `[s, e_x, e_y, o]`.
+fn rectangle_parameters<T: Real>() -> [Vec3<T>; 4] {
+    let (_, [s, ex, ey, o]) = ordinary_rectangles()
+        .into_iter()
+        .find(|(name, _)| name == "oblique")
+        .expect("the oblique rectangle");
+    [s.convert(), ex.convert(), ey.convert(), o.convert()]
+}
+
+const RECTANGLE_VARIANTS: [SphericalRectangleVariant; 2] = [
+    SphericalRectangleVariant::Literal,
+    SphericalRectangleVariant::Robust,
+];
+
+/// Folds M(u, v) = (point, direction) into the accumulator.
+#[inline]
+fn fold_sample<T: Real>(acc: T, r: &SphericalRectangle<T>, u: &T, v: &T) -> T {
+    let (point, direction) = r.sample_point(u, v);
+    fold(fold(acc, &point), &direction)
+}
+
+fn rectangle_in<T: Real>(c: &mut Criterion) {
+    let points = batch::<T>();
+    let [s, ex, ey, o] = rectangle_parameters::<T>();
+
+    let mut group = c.benchmark_group(format!("rectangle/map/{}", T::type_name()));
+    group.throughput(Throughput::Elements(N as u64));
+    for variant in RECTANGLE_VARIANTS {
+        let r = SphericalRectangle::new_with(s.clone(), ex.clone(), ey.clone(), o.clone(), variant)
+            .expect("valid rectangle");
+        group.bench_with_input(BenchmarkId::from_parameter(variant), &r, |bench, r| {
+            bench.iter(|| {
+                points
+                    .iter()
+                    .fold(T::zero(), |acc, (u, v)| fold_sample(acc, r, u, v))
+            })
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group(format!("rectangle/build+map/{}", T::type_name()));
+    group.throughput(Throughput::Elements(N as u64));
+    for variant in RECTANGLE_VARIANTS {
+        group.bench_function(BenchmarkId::from_parameter(variant), |bench| {
+            bench.iter(|| {
+                points.iter().fold(T::zero(), |acc, (u, v)| {
+                    let r = SphericalRectangle::new_with(
+                        black_box(&s).clone(),
+                        black_box(&ex).clone(),
+                        black_box(&ey).clone(),
+                        black_box(&o).clone(),
+                        variant,
+                    );
+                    match r {
+                        Ok(r) => fold_sample(acc, &r, u, v),
+                        Err(_) => acc,
+                    }
+                })
+            })
+        });
+    }
+    group.finish();
+}
+
+fn rectangle(c: &mut Criterion) {
+    rectangle_in::<f32>(c);
+    rectangle_in::<f64>(c);
+}
+
+criterion_group!(benches, triangle, rectangle);
 criterion_main!(benches);

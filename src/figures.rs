@@ -520,7 +520,11 @@ fn ticks(scale: Scale, lo: f64, hi: f64) -> Vec<(f64, String)> {
                 .map(|e| {
                     (
                         e as f64,
-                        format!("10<tspan dy=\"-6\" font-size=\"9\">{e}</tspan>"),
+                        if (-3..=4).contains(&e) {
+                            format_decimal(10f64.powi(e as i32))
+                        } else {
+                            format!("10<tspan dy=\"-6\" font-size=\"9\">{e}</tspan>")
+                        },
                     )
                 })
                 .collect();
@@ -638,7 +642,15 @@ fn svg_open(out: &mut String, width: u32, height: u32, title: &str) {
 }
 
 /// Frame, grid lines, ticks and axis labels.
-fn svg_axes(out: &mut String, frame: Frame, x: &Mapped, y: &Mapped, xl: &str, yl: &str) {
+fn svg_axes(
+    out: &mut String,
+    frame: Frame,
+    x: &Mapped,
+    y: &Mapped,
+    labels: (&str, &str),
+    grid: bool,
+) {
+    let (xl, yl) = labels;
     let _ = writeln!(
         out,
         "<g class=\"axes\" stroke=\"#444\" fill=\"none\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></g>",
@@ -650,13 +662,17 @@ fn svg_axes(out: &mut String, frame: Frame, x: &Mapped, y: &Mapped, xl: &str, yl
     let _ = writeln!(out, "<g class=\"ticks\">");
     for (t, label) in ticks(x.scale, x.lo, x.hi) {
         let px = x.p0 + (t - x.lo) / (x.hi - x.lo) * (x.p1 - x.p0);
+        if grid {
+            let _ = write!(
+                out,
+                "<line x1=\"{px:.1}\" y1=\"{:.1}\" x2=\"{px:.1}\" y2=\"{:.1}\" stroke=\"#ddd\"/>",
+                frame.top, frame.bottom
+            );
+        }
         let _ = writeln!(
             out,
-            "<line x1=\"{px:.1}\" y1=\"{:.1}\" x2=\"{px:.1}\" y2=\"{:.1}\" stroke=\"#ddd\"/>\
-             <line x1=\"{px:.1}\" y1=\"{:.1}\" x2=\"{px:.1}\" y2=\"{:.1}\" stroke=\"#444\"/>\
+            "<line x1=\"{px:.1}\" y1=\"{:.1}\" x2=\"{px:.1}\" y2=\"{:.1}\" stroke=\"#444\"/>\
              <text x=\"{px:.1}\" y=\"{:.1}\" text-anchor=\"middle\">{label}</text>",
-            frame.top,
-            frame.bottom,
             frame.bottom,
             frame.bottom + 5.0,
             frame.bottom + 19.0
@@ -664,13 +680,17 @@ fn svg_axes(out: &mut String, frame: Frame, x: &Mapped, y: &Mapped, xl: &str, yl
     }
     for (t, label) in ticks(y.scale, y.lo, y.hi) {
         let py = y.p0 + (t - y.lo) / (y.hi - y.lo) * (y.p1 - y.p0);
+        if grid {
+            let _ = write!(
+                out,
+                "<line x1=\"{:.1}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#ddd\"/>",
+                frame.left, frame.right
+            );
+        }
         let _ = writeln!(
             out,
-            "<line x1=\"{:.1}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#ddd\"/>\
-             <line x1=\"{:.1}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#444\"/>\
+            "<line x1=\"{:.1}\" y1=\"{py:.1}\" x2=\"{:.1}\" y2=\"{py:.1}\" stroke=\"#444\"/>\
              <text x=\"{:.1}\" y=\"{:.1}\" text-anchor=\"end\">{label}</text>",
-            frame.left,
-            frame.right,
             frame.left - 5.0,
             frame.left,
             frame.left - 8.0,
@@ -783,7 +803,14 @@ pub fn write_line_plot_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
     let (x, y) = resolve_axes(plot, frame, true);
     let mut out = String::new();
     svg_open(&mut out, plot.width, plot.height, &plot.title);
-    svg_axes(&mut out, frame, &x, &y, &plot.x.label, &plot.y.label);
+    svg_axes(
+        &mut out,
+        frame,
+        &x,
+        &y,
+        (&plot.x.label, &plot.y.label),
+        true,
+    );
     let mut marks = 0;
     let _ = writeln!(
         out,
@@ -861,7 +888,14 @@ pub fn write_scatter_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
     let (x, y) = resolve_axes(plot, frame, true);
     let mut out = String::new();
     svg_open(&mut out, plot.width, plot.height, &plot.title);
-    svg_axes(&mut out, frame, &x, &y, &plot.x.label, &plot.y.label);
+    svg_axes(
+        &mut out,
+        frame,
+        &x,
+        &y,
+        (&plot.x.label, &plot.y.label),
+        true,
+    );
     let mut marks = 0;
     for (i, s) in plot.series.iter().enumerate() {
         let c = series_color(s, i).hex();
@@ -915,15 +949,24 @@ pub fn write_heat_map_svg(path: &Path, map: &HeatMap) -> io::Result<Figure> {
         false,
     );
     let range = map.color_range();
-    // One pixel per cell, top row first.
-    let mut rgb = Vec::with_capacity(map.cols * map.rows * 3);
+    // k × k pixels per cell (at least 256 pixels a side, so that viewers
+    // which smooth the scaled raster blur only the cell borders), top row first.
+    let k = 256usize.div_ceil(map.cols.min(map.rows)).clamp(1, 16);
+    let (w, h) = (map.cols * k, map.rows * k);
+    let mut rgb = Vec::with_capacity(w * h * 3);
     for j in (0..map.rows).rev() {
+        let mut row = Vec::with_capacity(w * 3);
         for i in 0..map.cols {
             let c = map.color_of(map.values[j * map.cols + i], range);
-            rgb.extend_from_slice(&[c.0, c.1, c.2]);
+            for _ in 0..k {
+                row.extend_from_slice(&[c.0, c.1, c.2]);
+            }
+        }
+        for _ in 0..k {
+            rgb.extend_from_slice(&row);
         }
     }
-    let png = encode_png(map.cols as u32, map.rows as u32, &rgb)?;
+    let png = encode_png(w as u32, h as u32, &rgb)?;
     let mut out = String::new();
     svg_open(&mut out, width, height, &map.title);
     let _ = writeln!(
@@ -938,7 +981,7 @@ pub fn write_heat_map_svg(path: &Path, map: &HeatMap) -> io::Result<Figure> {
         frame.bottom - frame.top,
         base64(&png)
     );
-    svg_axes(&mut out, frame, &x, &y, &map.x.label, &map.y.label);
+    svg_axes(&mut out, frame, &x, &y, (&map.x.label, &map.y.label), false);
     // Colour bar.
     let (bx, bw) = (frame.right + 24.0, 18.0);
     let steps = 64;
@@ -1431,7 +1474,7 @@ pub fn zlib_decompress(data: &[u8]) -> Result<Vec<u8>, String> {
         return Err("zlib stream too short".into());
     }
     let (cmf, flg) = (data[0], data[1]);
-    if cmf & 0x0F != 8 || ((cmf as u16) << 8 | flg as u16) % 31 != 0 || flg & 0x20 != 0 {
+    if cmf & 0x0F != 8 || !((cmf as u16) << 8 | flg as u16).is_multiple_of(31) || flg & 0x20 != 0 {
         return Err("bad zlib header".into());
     }
     let mut r = BitReader {
@@ -2140,11 +2183,20 @@ mod tests {
         assert_eq!(s.marks, cols * rows);
         assert_eq!(s.embedded_pngs.len(), 1);
         let img = &s.embedded_pngs[0];
-        assert_eq!((img.width, img.height), (cols as u32, rows as u32));
-        // Top-left pixel is the top row (j = rows − 1); bottom-left is the minimum.
-        assert_eq!(img.pixel(0, rows as u32 - 1), Some(viridis(0.0)));
-        assert_eq!(img.pixel(cols as u32 - 1, 0), Some(viridis(1.0)));
-        assert_eq!(img.pixel(3, rows as u32 - 1 - 4), Some(MISSING));
+        // 16 × 16 pixels per cell (at least 256 pixels a side).
+        let k = 16;
+        assert_eq!((img.width, img.height), (cols as u32 * k, rows as u32 * k));
+        // The bottom-left cell is the minimum, the top-right the maximum.
+        assert_eq!(img.pixel(0, rows as u32 * k - 1), Some(viridis(0.0)));
+        assert_eq!(img.pixel(cols as u32 * k - 1, 0), Some(viridis(1.0)));
+        assert_eq!(
+            img.pixel(3 * k + 5, (rows as u32 - 1 - 4) * k + 7),
+            Some(MISSING)
+        );
+        assert_eq!(
+            img.pixel(3 * k - 1, (rows as u32 - 1 - 4) * k + 7),
+            Some(map.color_of(map.values[4 * cols + 2], map.color_range()))
+        );
         let png = write_heat_map_png(&tmp("heat.png"), &map, 4).unwrap();
         assert_eq!(png.marks, cols * rows);
         let check = verify_figure(&png.path).unwrap();

@@ -19,13 +19,17 @@
 #![deny(missing_docs)]
 
 pub mod error;
+pub mod estimate;
 #[cfg(feature = "studies")]
 pub mod figures;
 pub mod harness;
 pub mod real;
 pub mod recipe;
 pub mod sampling;
+pub mod scene;
 pub mod shapes;
+#[cfg(feature = "studies")]
+pub mod studies;
 pub mod vector;
 pub mod warp;
 

@@ -28,6 +28,12 @@ enum Command {
         /// Each line ends with a point instead of `u v`; print `MAP u v`.
         #[arg(long)]
         inverse: bool,
+        /// Solid-angle maps: `robust` (default) or the papers' `literal` algorithms.
+        #[arg(long, default_value = "robust", value_parser = ["robust", "literal"])]
+        variant: String,
+        /// projected-polygon: Newton steps after the Vandermonde cubic (default: to convergence).
+        #[arg(long)]
+        newton: Option<u32>,
         /// Input file (standard input when absent).
         file: Option<PathBuf>,
     },
@@ -45,7 +51,10 @@ enum Command {
 fn main() -> ExitCode {
     let args = Args::parse();
     match args.command {
-        Command::Eval { precision, inverse, file } => cli::eval::main(&precision, inverse, file.as_deref()),
+        Command::Eval { precision, inverse, variant, newton, file } => {
+            let opts = cli::eval::Options { inverse, literal: variant == "literal", newton };
+            cli::eval::main(&precision, opts, file.as_deref())
+        }
         Command::Report { out, quick } => cli::report::main(&out, quick),
     }
 }

@@ -185,3 +185,59 @@ fn mpfr_output_round_trips_at_its_precision() {
     let want = reference("disk", &[], &f(0.5), &f(0.125));
     assert!((x - &want[0]).abs() < Float::with_val(PREC, Float::i_exp(1, -250)));
 }
+
+fn numbers(line: &str) -> Vec<f64> {
+    line.split_whitespace().skip(1).map(|x| x.parse().unwrap()).collect()
+}
+
+#[test]
+fn solid_angle_maps_through_the_cli() {
+    let tri = "spherical-triangle 1 0 0 0 1 0 0 0 1";
+    let rect = "spherical-rectangle -1 -1 1 2 0 0 0 3 0 0 0 0";
+    let poly = "projected-polygon 4 1 0 0.2 0 1 0.5 -1 0 0.2 0 -1 0.5";
+    for variant in ["robust", "literal"] {
+        let input = format!("{tri} 0.3 0.7\n{tri} 0 0\n{tri} 1 1\n{rect} 0.3 0.7\n{rect} 1 0\n");
+        let (out, ok) = run_eval(&["--variant", variant], &input);
+        assert!(ok, "{variant}: {out}");
+        let lines: Vec<&str> = out.lines().collect();
+        for l in &lines[..3] {
+            let p = numbers(l);
+            assert!(((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-15, "{l}");
+            assert!(p.iter().all(|x| *x >= -1e-16), "{l}: outside the octant");
+        }
+        for l in &lines[3..] {
+            let p = numbers(l);
+            assert_eq!(p.len(), 6, "{l}");
+            assert!((p[2] - 1.0).abs() < 1e-15, "{l}: point off the rectangle's plane z = 1");
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            for i in 0..3 {
+                assert!((p[3 + i] - p[i] / r).abs() < 1e-15, "{l}: direction does not point at the point");
+            }
+        }
+        // The forward output pipes straight into --inverse.
+        let back_in: String = lines.iter().zip([tri, tri, tri, rect, rect]).map(|(l, head)| {
+            format!("{head} {}\n", l.split_whitespace().skip(1).collect::<Vec<_>>().join(" "))
+        }).collect();
+        let (back, ok) = run_eval(&["--variant", variant, "--inverse"], &back_in);
+        assert!(ok, "{variant}: {back}");
+        let uv: Vec<Vec<f64>> = back.lines().map(numbers).collect();
+        assert!((uv[0][0] - 0.3).abs() < 1e-12 && (uv[0][1] - 0.7).abs() < 1e-12, "{back}");
+        assert!((uv[3][0] - 0.3).abs() < 1e-12 && (uv[3][1] - 0.7).abs() < 1e-12, "{back}");
+    }
+    for newton in [None, Some("0"), Some("2")] {
+        let mut args = vec![];
+        if let Some(k) = newton {
+            args = vec!["--newton", k];
+        }
+        let (out, ok) = run_eval(&args, &format!("{poly} 0.3 0.7\n{poly} 0 0\n{poly} 1 1\n"));
+        assert!(ok, "{out}");
+        for l in out.lines() {
+            let p = numbers(l);
+            assert!(((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-14, "{l}");
+            assert!(p[2] >= 0.0, "{l}");
+        }
+    }
+    let (out, ok) = run_eval(&[], "spherical-triangle 1 0 0 2 0 0 0 0 1 0.5 0.5\nprojected-polygon 2 1 0 0 0 1 0 0.5 0.5\n");
+    assert!(!ok);
+    assert!(out.lines().all(|l| l.contains(" error: ")), "{out}");
+}

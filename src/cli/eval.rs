@@ -6,17 +6,31 @@
 //! to read back to the same value in that precision.
 
 use areawarp::real::Real;
-use areawarp::shapes::{ConcentricDisk, Hemisphere, PhongLobe, PlanarTriangle, PolarDisk, Sphere};
+use areawarp::shapes::{
+    ConcentricDisk, Hemisphere, MarginalInversion, PhongLobe, PlanarTriangle, PolarDisk, ProjectedPolygon, Sphere,
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+};
 use areawarp::{Coords, Vec3, Warp};
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
 /// Answers one line in a fixed precision (see [`eval_line`]).
-type LineEvaluator = fn(&str, bool) -> Option<Result<String, String>>;
+type LineEvaluator = fn(&str, &Options) -> Option<Result<String, String>>;
+
+/// The evaluator's switches.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Options {
+    /// Lines end with a point; answer `u v`.
+    pub inverse: bool,
+    /// Use the papers' literal algorithms for the solid-angle maps.
+    pub literal: bool,
+    /// Newton steps after the cubic for `projected-polygon` (`None`: to convergence).
+    pub newton: Option<u32>,
+}
 
 /// Entry point of `areawarp eval`.
-pub fn main(precision: &str, inverse: bool, file: Option<&Path>) -> ExitCode {
+pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
     let input: Box<dyn BufRead> = match file {
         Some(path) => match std::fs::File::open(path) {
             Ok(f) => Box::new(BufReader::new(f)),
@@ -54,7 +68,7 @@ pub fn main(precision: &str, inverse: bool, file: Option<&Path>) -> ExitCode {
                 return ExitCode::from(2);
             }
         };
-        let answer = match run(&line, inverse) {
+        let answer = match run(&line, &opts) {
             None => continue,
             Some(Ok(s)) => s,
             Some(Err(s)) => {
@@ -86,7 +100,7 @@ fn mpfr_evaluator(bits: &str) -> Option<LineEvaluator> {
 
 /// Answers one input line: `None` for blank and comment lines, `Ok(output)`
 /// or `Err(error line)` otherwise.
-pub fn eval_line<T: Real>(line: &str, inverse: bool) -> Option<Result<String, String>> {
+pub fn eval_line<T: Real>(line: &str, opts: &Options) -> Option<Result<String, String>> {
     let line = line.trim();
     if line.is_empty() || line.starts_with('#') {
         return None;
@@ -98,15 +112,25 @@ pub fn eval_line<T: Real>(line: &str, inverse: bool) -> Option<Result<String, St
         .collect();
     Some(
         numbers
-            .and_then(|n| dispatch::<T>(name, &n, inverse))
+            .and_then(|n| dispatch::<T>(name, &n, opts))
             .map(|out| format!("{name} {out}"))
             .map_err(|e| format!("{name} error: {e}")),
     )
 }
 
-fn dispatch<T: Real>(name: &str, n: &[T], inverse: bool) -> Result<String, String> {
+fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, String> {
+    let inverse = opts.inverse;
     let vec3 = |i: usize| Vec3::new(n[i].clone(), n[i + 1].clone(), n[i + 2].clone());
     match name {
+        "spherical-triangle" => {
+            expect(n, 9, inverse, 3)?;
+            let variant =
+                if opts.literal { SphericalTriangleVariant::Literal } else { SphericalTriangleVariant::Robust };
+            let w = SphericalTriangle::new_with(vec3(0), vec3(3), vec3(6), variant).map_err(|e| e.to_string())?;
+            apply(&w, &n[9..], inverse)
+        }
+        "spherical-rectangle" => spherical_rectangle(n, opts),
+        "projected-polygon" => projected_polygon(n, opts),
         "planar-triangle" => {
             expect(n, 9, inverse, 3)?;
             let w = PlanarTriangle::new(vec3(0), vec3(3), vec3(6)).map_err(|e| e.to_string())?;
@@ -134,9 +158,68 @@ fn dispatch<T: Real>(name: &str, n: &[T], inverse: bool) -> Result<String, Strin
             apply(&Sphere::<T>::new(), n, inverse)
         }
         _ => Err(format!(
-            "unknown map {name:?} (known: planar-triangle, disk, concentric-disk, hemisphere, phong, sphere)"
+            "unknown map {name:?} (known: planar-triangle, disk, concentric-disk, hemisphere, phong, sphere, \
+             spherical-triangle, spherical-rectangle, projected-polygon)"
         )),
     }
+}
+
+/// `spherical-rectangle s ex ey o u v` → `point direction`; with `--inverse`
+/// the line ends with a direction from `o` (3 numbers) or with the point and
+/// direction printed by the forward map (6 numbers; the point is used).
+fn spherical_rectangle<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
+    let vec3 = |i: usize| Vec3::new(n[i].clone(), n[i + 1].clone(), n[i + 2].clone());
+    let tail = n.len().saturating_sub(12);
+    let ok = if opts.inverse { tail == 3 || tail == 6 } else { tail == 2 };
+    if n.len() < 12 || !ok {
+        let what = if opts.inverse { "a direction (3) or a point and direction (6)" } else { "u v" };
+        return Err(format!("expected 12 parameters (s, ex, ey, o) then {what}, got {} numbers", n.len()));
+    }
+    let variant = if opts.literal { SphericalRectangleVariant::Literal } else { SphericalRectangleVariant::Robust };
+    let w = SphericalRectangle::new_with(vec3(0), vec3(3), vec3(6), vec3(9), variant).map_err(|e| e.to_string())?;
+    if opts.inverse {
+        let (u, v) = if tail == 6 { w.inverse_point(&vec3(12)) } else { w.inverse(&vec3(12)) }
+            .ok_or("the point is not on the rectangle")?;
+        return Ok(format!("{} {}", u.to_roundtrip_string(), v.to_roundtrip_string()));
+    }
+    let (u, v) = (&n[12], &n[13]);
+    check_unit(u, v)?;
+    let (p, d) = w.sample_point(u, v);
+    Ok(join(&[p.x, p.y, p.z, d.x, d.y, d.z]))
+}
+
+/// `projected-polygon N v1 … vN u v` → `x y z` (directions from the origin,
+/// receiver normal +z).
+fn projected_polygon<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
+    let count = n.first().ok_or("expected the vertex count N")?;
+    let k = count.to_f64();
+    if !(k >= 3.0 && k <= 1e6 && k.fract() == 0.0) {
+        return Err(format!("N = {count} is not a vertex count (an integer ≥ 3)"));
+    }
+    let k = k as usize;
+    expect(n, 1 + 3 * k, opts.inverse, 3)?;
+    let verts: Vec<Vec3<T>> =
+        (0..k).map(|i| Vec3::new(n[1 + 3 * i].clone(), n[2 + 3 * i].clone(), n[3 + 3 * i].clone())).collect();
+    let inversion = match opts.newton {
+        None => MarginalInversion::Newton,
+        Some(0) => MarginalInversion::Cubic,
+        Some(steps) => MarginalInversion::CubicNewton(steps),
+    };
+    let w = ProjectedPolygon::new_with(&verts, inversion).map_err(|e| e.to_string())?;
+    apply(&w, &n[1 + 3 * k..], opts.inverse)
+}
+
+fn check_unit<T: Real>(u: &T, v: &T) -> Result<(), String> {
+    for (name, x) in [("u", u), ("v", v)] {
+        if !(*x >= T::zero() && *x <= T::one()) {
+            return Err(format!("{name} = {x} is not in [0, 1]"));
+        }
+    }
+    Ok(())
+}
+
+fn join<T: Real>(xs: &[T]) -> String {
+    xs.iter().map(|c| c.to_roundtrip_string()).collect::<Vec<_>>().join(" ")
 }
 
 /// Checks the number count: `params` shape parameters, then `u v` or a point of `dim` coordinates.
@@ -159,13 +242,8 @@ fn apply<T: Real, W: Warp<T>>(w: &W, rest: &[T], inverse: bool) -> Result<String
         Ok(format!("{} {}", u.to_roundtrip_string(), v.to_roundtrip_string()))
     } else {
         let (u, v) = (&rest[0], &rest[1]);
-        for (name, x) in [("u", u), ("v", v)] {
-            if !(*x >= T::zero() && *x <= T::one()) {
-                return Err(format!("{name} = {x} is not in [0, 1]"));
-            }
-        }
+        check_unit(u, v)?;
         let p = w.map(u, v).to_vec3();
-        let coords = [p.x, p.y, p.z];
-        Ok(coords[..W::Point::DIM].iter().map(|c| c.to_roundtrip_string()).collect::<Vec<_>>().join(" "))
+        Ok(join(&[p.x, p.y, p.z][..W::Point::DIM]))
     }
 }

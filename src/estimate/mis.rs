@@ -73,7 +73,11 @@ impl Heuristic {
         if max == f64::INFINITY {
             // Only the infinite densities count, equally.
             let n_inf = q.iter().filter(|&&x| x == f64::INFINITY).count() as f64;
-            return if qi == f64::INFINITY { 1.0 / n_inf } else { 0.0 };
+            return if qi == f64::INFINITY {
+                1.0 / n_inf
+            } else {
+                0.0
+            };
         }
         match *self {
             Heuristic::Balance => {

@@ -451,7 +451,10 @@ where
 /// Converts a generic-scalar point set (e.g. from [`crate::sampling`]) to
 /// `f64` pairs.
 pub fn to_f64_points<T: Real>(points: &[(T, T)]) -> Vec<(f64, f64)> {
-    points.iter().map(|(u, v)| (u.to_f64(), v.to_f64())).collect()
+    points
+        .iter()
+        .map(|(u, v)| (u.to_f64(), v.to_f64()))
+        .collect()
 }
 
 #[cfg(test)]

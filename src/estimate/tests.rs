@@ -88,7 +88,18 @@ fn exact_variance(strategies: &[&Linear], n: &[usize], h: Heuristic) -> f64 {
 #[test]
 fn estimate_weights_are_nonnegative_and_sum_to_one() {
     let mut rng = job_rng(1, 0);
-    let specials = [0.0, 1e-300, 5e-324, 1.0, 3.5, 1e300, f64::MAX, f64::INFINITY, f64::NAN, -2.0];
+    let specials = [
+        0.0,
+        1e-300,
+        5e-324,
+        1.0,
+        3.5,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+        f64::NAN,
+        -2.0,
+    ];
     let mut worst = 0.0_f64;
     for trial in 0..20_000 {
         let k = 1 + trial % 5;
@@ -105,7 +116,10 @@ fn estimate_weights_are_nonnegative_and_sum_to_one() {
         for h in HEURISTICS {
             let mut w = vec![0.0; k];
             h.weights(&q, &mut w);
-            assert!(w.iter().all(|&x| x >= 0.0 && x.is_finite()), "{h:?} {q:?} {w:?}");
+            assert!(
+                w.iter().all(|&x| x >= 0.0 && x.is_finite()),
+                "{h:?} {q:?} {w:?}"
+            );
             let s: f64 = w.iter().sum();
             worst = worst.max((s - 1.0).abs());
             assert!((s - 1.0).abs() <= 8.0 * f64::EPSILON, "{h:?} {q:?} {w:?}");
@@ -148,7 +162,10 @@ fn estimate_mis_weights_at_points_sum_to_one() {
             let x = c as f64 / 1000.0;
             mis.weights_at(&x, &mut w);
             assert!(w[0] >= 0.0 && w[1] >= 0.0);
-            assert!((w[0] + w[1] - 1.0).abs() <= 4.0 * f64::EPSILON, "{h:?} {x} {w:?}");
+            assert!(
+                (w[0] + w[1] - 1.0).abs() <= 4.0 * f64::EPSILON,
+                "{h:?} {x} {w:?}"
+            );
         }
     }
 }
@@ -214,7 +231,10 @@ fn estimate_balance_heuristic_beats_each_single_strategy() {
         .collect();
     for (h, v) in &measured {
         let exact = exact_variance(&[&p1, &p2], &[1, 1], *h);
-        eprintln!("{:>10}: variance per pair {v:.4} (exact {exact:.4})", h.name());
+        eprintln!(
+            "{:>10}: variance per pair {v:.4} (exact {exact:.4})",
+            h.name()
+        );
         assert!((v / exact - 1.0).abs() < 0.1);
     }
     let exact_single = exact_variance(&[&p1, &p2], &[2, 0], Heuristic::Balance);
@@ -236,7 +256,11 @@ fn estimate_cosine_sampling_of_cosine_has_zero_variance() {
     assert!((e.value - std::f64::consts::PI).abs() < 1e-12);
     assert!(e.variance < 1e-20);
     let uniform = WarpStrategy::new(Hemisphere::<f64>::new());
-    let e = monte_carlo(&uniform, |d: &Vec3<f64>| d.z, uniform_points(100_000, &mut rng));
+    let e = monte_carlo(
+        &uniform,
+        |d: &Vec3<f64>| d.z,
+        uniform_points(100_000, &mut rng),
+    );
     assert!(e.z_score(std::f64::consts::PI).abs() < 4.0);
     // Hemisphere MIS with a restricted-support strategy: the lobe k = 20.
     let lobe = WarpStrategy::new(PhongLobe::<f64>::new(20.0).unwrap());
@@ -246,9 +270,7 @@ fn estimate_cosine_sampling_of_cosine_has_zero_variance() {
     let exact = 2.0 * std::f64::consts::PI / 31.0 + 0.2 * std::f64::consts::PI;
     for h in HEURISTICS {
         let mis = Mis::new(&s, &[5000, 5000], h).unwrap();
-        let e = mis
-            .estimate(f, |_| uniform_points(5000, &mut rng))
-            .unwrap();
+        let e = mis.estimate(f, |_| uniform_points(5000, &mut rng)).unwrap();
         assert!(((e.value - exact) / e.std_error()).abs() < 4.0, "{h:?}");
     }
 }
@@ -266,7 +288,11 @@ fn estimate_mixture_density_and_support() {
             })
         }
         fn pdf(&self, x: &f64) -> f64 {
-            if (self.0..=self.0 + 0.5).contains(x) { 2.0 } else { 0.0 }
+            if (self.0..=self.0 + 0.5).contains(x) {
+                2.0
+            } else {
+                0.0
+            }
         }
     }
     let m = Mixture::new(vec![Half(0.0), Half(0.5)], &[1.0, 3.0]).unwrap();
@@ -328,6 +354,7 @@ fn estimate_job_seeds_are_distinct_and_stable() {
 }
 
 /// An estimator job: 2000 MIS samples of the peaks integrand.
+#[cfg(feature = "studies")]
 fn mis_job(i: usize, rng: &mut Xoshiro256PlusPlus) -> MisEstimate {
     let (p1, p2) = (Linear { a: 0.9 }, Linear { a: -0.9 });
     let s: [&dyn Strategy<Point = f64>; 2] = [&p1, &p2];
@@ -369,4 +396,39 @@ fn estimate_run_jobs_is_bit_identical_with_one_and_two_threads() {
     assert_eq!(&one[..64], &sequential[..]);
     // And the jobs are not all the same.
     assert_ne!(one[0], one[5]);
+}
+
+#[test]
+fn estimate_warp_strategy_with_support() {
+    use crate::shapes::SphericalTriangle;
+    // The octant: constant density 1/Ω = 2/π on it, 0 elsewhere once
+    // restricted to the triangle.
+    let octant = SphericalTriangle::<f64>::new(
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    )
+    .unwrap();
+    let free = WarpStrategy::new(octant.clone());
+    let inside = |p: &Vec3<f64>| p.x >= 0.0 && p.y >= 0.0 && p.z >= 0.0;
+    let restricted = WarpStrategy::with_support(octant, inside);
+    let away = Vec3::new(-1.0, 0.0, 0.0);
+    let on = Vec3::new(1.0, 1.0, 1.0).normalized().unwrap();
+    assert!((free.pdf(&away) - 2.0 / std::f64::consts::PI).abs() < 1e-15);
+    assert_eq!(restricted.pdf(&away), 0.0);
+    assert!((restricted.pdf(&on) - 2.0 / std::f64::consts::PI).abs() < 1e-15);
+    let s = restricted.sample(0.3, 0.6).unwrap();
+    assert!(inside(&s.point) && (s.pdf - restricted.pdf(&s.point)).abs() < 1e-15);
+    // MIS of the octant with uniform hemisphere sampling: ∫_hemisphere z dω = π.
+    let hemi = WarpStrategy::new(Hemisphere::<f64>::new());
+    let st: [&dyn Strategy<Point = Vec3<f64>>; 2] = [&restricted, &hemi];
+    let mis = Mis::new(&st, &[4000, 4000], Heuristic::Power(2.0)).unwrap();
+    let mut rng = job_rng(13, 0);
+    let e = mis
+        .estimate(
+            |d: &Vec3<f64>| d.z.max(0.0),
+            |_| uniform_points(4000, &mut rng),
+        )
+        .unwrap();
+    assert!(((e.value - std::f64::consts::PI) / e.std_error()).abs() < 4.0);
 }

@@ -7,6 +7,7 @@ mod planar_triangle;
 pub mod polygon_measures;
 mod projected_polygon;
 mod sphere;
+mod spherical_rectangle;
 mod spherical_triangle;
 mod turns;
 pub use concentric_disk::ConcentricDisk;
@@ -16,6 +17,10 @@ pub use phong::{PhongLobe, PhongRecipe};
 pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe};
 pub use projected_polygon::{MarginalInversion, ProjectedPolygon};
 pub use sphere::{Sphere, SphereRecipe};
+pub use spherical_rectangle::{
+    RectangleSample, SphericalRectangle, SphericalRectangleRecipe, SphericalRectangleVariant,
+    hard_rectangles, ordinary_rectangles,
+};
 pub use spherical_triangle::{
     SphericalTriangle, SphericalTriangleRecipe, SphericalTriangleVariant, hard_triangles,
     ordinary_triangles,

@@ -268,6 +268,8 @@ pub struct SphericalTriangle<T> {
     a: Vec3<T>,
     b: Vec3<T>,
     c: Vec3<T>,
+    /// |B|² (1 up to rounding).
+    b_norm2: T,
     /// Solid angle Ω (Van Oosterom–Strackee), Ω/2 and 1/Ω.
     omega: T,
     half_omega: T,
@@ -394,6 +396,7 @@ impl<T: Real> SphericalTriangle<T> {
         let literal = Literal::new(&a, &b, &c);
         Ok(SphericalTriangle {
             variant,
+            b_norm2: norm2(&b),
             half_omega: omega.clone() / &two,
             omega,
             inv_omega,
@@ -503,71 +506,86 @@ impl<T: Real> SphericalTriangle<T> {
         let v = clamp01(v);
         let one = T::one();
         let two = T::from_i64(2);
-        let quarter = T::from_ratio(1, 4);
-        let (anchor, h) = if u <= T::from_ratio(1, 2) {
+        let half = T::from_ratio(1, 2);
+        let (anchor, h) = if u <= half {
             (&self.from_a, u * &self.half_omega)
         } else {
             (&self.from_c, (one.clone() - &u) * &self.half_omega)
         };
         let (sh, ch) = h.sin_cos();
-        // Step 1: tan(b_s/2) = n/m (eq. T divided by d); C_s − V = δ.
+        // Step 1: tan(b_s/2) = n/m (eq. T divided by d), and the angle β_s
+        // at B between the arcs B V and B C_s (eq. B):
+        // (sin β_s, cos β_s) ∝ (nb, cb) = (sin h·m, 1 − sin h (k cos h + d sin h)/(d sin²(c/2)))/sin²(c/2)…
         let n = anchor.k1_d.clone() * &sh;
         let m = ch.clone() - &(anchor.k_d.clone() * &sh);
+        let nb = sh.clone() * &m * &anchor.inv_s2;
+        let cb = one.clone() - &(sh.clone() * &(anchor.k_d.clone() * &ch + &sh) * &anchor.inv_s2);
+        // g = 2n/(n² + m²) = sin b_s / m.
         let g = (n.clone() + &n) / &(n.square() + &m.square());
+        let nd2 = nb.square() + &cb.square();
+        // Independent of g: the two divisions overlap.
+        let inv_nd2 = one.clone() / &nd2;
+        // C_s − V = sin b_s·[W|V] − (1 − cos b_s)·V; D = C_s − B.
         let delta = anchor
             .along
             .scale(&(g.clone() * &m))
             .sub(&anchor.vertex.scale(&(g * &n)));
         let d_vec = delta.add(&anchor.v_minus_b);
-        let e_vec = delta.add(&anchor.v_plus_b);
-        // sin²(a_s/2), cos²(a_s/2) of the arc B C_s.
-        let s2 = norm2(&d_vec) * &quarter;
-        let c2 = norm2(&e_vec) * &quarter;
-        // The angle β_s at B between the arcs B V and B C_s (eq. B):
-        // (sin β_s, cos β_s) ∝ (sin h · m, 1 − sin h (k cos h + d sin h)/(d sin²(c/2))).
-        let nb = sh.clone() * &m * &anchor.inv_s2;
-        let cb = one.clone() - &(sh.clone() * &(anchor.k_d.clone() * &ch + &sh) * &anchor.inv_s2);
-        let nd = (nb.square() + &cb.square()).sqrt();
-        let w = if nd > T::zero() {
-            let inv = one.clone() / &nd;
-            anchor.t_b.scale(&(cb * &inv)).add(&anchor.n_b.scale(&(nb * &inv)))
-        } else {
-            anchor.t_b.clone()
-        };
+        // sin²(a_s/2) of the arc B C_s.
+        let s2 = norm2(&d_vec) / T::from_i64(4);
         // Step 2: θ = ∠BP with sin²(θ/2) = v sin²(a_s/2),
         // cos²(θ/2) = cos²(a_s/2) + (1 − v) sin²(a_s/2).
-        let one_minus_v = one.clone() - &v;
-        let p = if v <= T::from_ratio(1, 2) {
-            // P = B + sin θ·W − (1 − cos θ)·B.
+        let p = if v <= half {
+            // P = B + sin θ·W − (1 − cos θ)·B with W = (cb·t_b + nb·n_b)/|(nb, cb)|;
+            // here cos²(θ/2) = 1 − sin²(θ/2) ≥ 1/2 (no cancellation, and
+            // cos²(a_s/2) is not needed), and sin θ/|(nb, cb)| is one root.
             let sp2 = v * &s2;
-            let sp = sp2.sqrt();
-            let cp = (c2 + &(one_minus_v * &s2)).sqrt();
-            let offset = w
-                .scale(&(two.clone() * &sp * &cp))
+            let f = (sp2.clone() * &(one.clone() - &sp2) * &inv_nd2).sqrt() * &two;
+            let offset = anchor
+                .t_b
+                .scale(&(f.clone() * &cb))
+                .add(&anchor.n_b.scale(&(f * &nb)))
                 .sub(&self.b.scale(&(sp2 * &two)));
             self.b.add(&offset)
         } else {
             // From the other end: φ = a_s − θ = ∠C_sP,
-            // sin(φ/2) = sin(a_s/2 − θ/2) = sin²(a_s/2)(1 − v) / (sin(a_s/2) cos(θ/2) + cos(a_s/2) sin(θ/2)),
+            // sin(φ/2) = sin(a_s/2 − θ/2) = sin²(a_s/2)(1 − v) / K,
+            // K = sin(a_s/2 + θ/2) = sin(a_s/2) cos(θ/2) + cos(a_s/2) sin(θ/2),
             // P = C_s + sin φ·W_C − (1 − cos φ)·C_s with W_C = sin a_s·B − cos a_s·W
-            // the unit tangent at C_s towards B.
+            // the unit tangent at C_s towards B. cos²(a_s/2) = |C_s + B|²/4,
+            // accurate also when C_s ≈ −B.
+            let one_minus_v = one - &v;
+            let c2 = norm2(&delta.add(&anchor.v_plus_b)) / T::from_i64(4);
             let sa = s2.sqrt();
             let ca = c2.sqrt();
             let sp = v.sqrt() * &sa;
             let cp = (c2.clone() + &(one_minus_v.clone() * &s2)).sqrt();
-            let sh_phi = s2.clone() * &one_minus_v / &(sa.clone() * &cp + &(ca.clone() * &sp));
+            let nd = nd2.sqrt();
+            let _ = &inv_nd2;
+            let k = sa.clone() * &cp + &(ca.clone() * &sp);
             let ch_phi = ca.clone() * &cp + &(sa.clone() * &sp);
+            // r = sin(φ/2) / |(nb, cb)|.
+            let r = s2.clone() * &one_minus_v / &(k * &nd);
+            let sh_phi = r.clone() * &nd;
             let sin_phi = sh_phi.clone() * &ch_phi * &two;
             let one_minus_cos_phi = sh_phi.square() * &two;
-            let w_c = self.b.scale(&(sa * &ca * &two)).sub(&w.scale(&(c2 - &s2)));
+            // sin φ·cos a_s / |(nb, cb)|, cos a_s = cos²(a_s/2) − sin²(a_s/2).
+            let w_coef = r * &ch_phi * &two * &(c2 - &s2);
             let c_s = anchor.vertex.add(&delta);
-            let offset = w_c.scale(&sin_phi).sub(&c_s.scale(&one_minus_cos_phi));
+            let offset = self
+                .b
+                .scale(&(sin_phi * &sa * &ca * &two))
+                .sub(&anchor.t_b.scale(&(w_coef.clone() * &cb)))
+                .sub(&anchor.n_b.scale(&(w_coef * &nb)))
+                .sub(&c_s.scale(&one_minus_cos_phi));
             c_s.add(&offset)
         };
-        // |P| = 1 + O(u): one Newton step for 1/|P|, (3 − |P|²)/2, brings
-        // the norm to within about one unit of roundoff (no square root).
-        let x = norm2(&p);
-        p.scale(&((T::from_i64(3) - &x) / &two))
+        // |P| = 1 + O(u): one Newton step towards |P| = |B| (|B| = 1 up to
+        // the rounding of the stored vertex), P·(1 + (|B|² − |P|²)/2), brings
+        // the norm to within about one unit of roundoff without a square root
+        // and leaves P = B (v = 0) untouched.
+        if cfg!(feature = "stnorm") { let x = norm2(&p);
+        p.scale(&(T::one() + &((self.b_norm2.clone() - &x) / &two))) } else { p }
     }
 
     /// ψ(u, v) by the [`Literal`](SphericalTriangleVariant::Literal)
@@ -577,12 +595,18 @@ impl<T: Real> SphericalTriangle<T> {
         self.literal.map(&self.a, &self.b, u, v)
     }
 
-    /// The half-angle `(sin(b_s/2), cos(b_s/2))` of the point `C_s` where the
-    /// great circle through B and the unit direction `q` meets the arc AC,
-    /// and `q − B`; `None` if `q = ±B`.
-    fn chart_half_angle(&self, q: &Vec3<T>) -> Option<(T, T, Vec3<T>)> {
+    /// Where the great circle through B and the unit direction `q` meets the
+    /// arc AC: returns `(sin(θ/2), cos(θ/2), n̂₁, q − B)` with θ = ∠AC_s and
+    /// `n̂₁ = (B × q)/|B × q|`; `None` if `q = ±B`.
+    fn chart_half_angle(&self, q: &Vec3<T>) -> Option<(T, T, Vec3<T>, Vec3<T>)> {
         let w = q.sub(&self.b);
-        let n1 = self.b.cross(&w);
+        // n₁ = B × q, from the shorter of q ∓ B (no cancellation near ±B).
+        let n1 = if q.dot(&self.b) >= T::zero() {
+            self.b.cross(&w)
+        } else {
+            self.b.cross(&q.add(&self.b))
+        };
+        let n1 = unit(&n1)?;
         // C_s = cos θ·A + sin θ·[C|A] with C_s·n₁ = 0:
         // (sin θ, cos θ) ∝ (−A·n₁, [C|A]·n₁), A·n₁ = (A − B)·n₁ exactly.
         let mut y = -self.a_minus_b.dot(&n1);
@@ -604,13 +628,27 @@ impl<T: Real> SphericalTriangle<T> {
             (r - &x, y)
         };
         let m = s.hypot(&c);
-        Some((s / &m, c / &m, w))
+        Some((s / &m, c / &m, n1, w))
+    }
+
+    /// `(C_s − B, C_s + B)` for `C_s` at the half-angle `(sin(θ/2), cos(θ/2))`
+    /// from A: `C_s − A = 2 sin(θ/2)(cos(θ/2)[C|A] − sin(θ/2)A)`.
+    fn chart_offsets(&self, s: &T, c: &T) -> (Vec3<T>, Vec3<T>) {
+        let two_s = s.clone() * &T::from_i64(2);
+        let delta = self
+            .c_perp
+            .scale(&(two_s.clone() * c))
+            .sub(&self.a.scale(&(two_s * s)));
+        (
+            delta.add(&self.from_a.v_minus_b),
+            delta.add(&self.from_a.v_plus_b),
+        )
     }
 
     /// ψ⁻¹ by the robust formulas (see [`Warp::inverse`]), without the
     /// on-shape test; `q` must be a unit vector.
     fn inverse_robust(&self, q: &Vec3<T>) -> Option<(T, T)> {
-        let Some((s, c, w)) = self.chart_half_angle(q) else {
+        let Some((s, c, n1, w)) = self.chart_half_angle(q) else {
             // q = B (v = 0, any u), or q = −B (not on the triangle).
             return if norm2(&q.sub(&self.b)) == T::zero() {
                 Some((T::zero(), T::zero()))
@@ -618,17 +656,34 @@ impl<T: Real> SphericalTriangle<T> {
                 None
             };
         };
+        let (d_vec, e_vec) = self.chart_offsets(&s, &c);
         let two = T::from_i64(2);
-        // Area of A B C_s: tan(A_s/2) = d·sin(θ/2) / ((1 + cos c) cos(θ/2) + k sin(θ/2)).
-        let half_area = (self.d.clone() * &s).atan2(&(self.k1a.clone() * &c + &(self.ka.clone() * &s)));
+        // Area of A B C_s measured from A (eq. T at A):
+        // tan(A_s/2) = sin c sin α·sin(θ/2) / ((1 + cos c) cos(θ/2) + sin c cos α·sin(θ/2)).
+        // It needs only θ, but its denominator cancels when A_s ≈ π with
+        // A, B, C_s near one great circle (nearly hemispherical triangles).
+        let num_a = self.d.clone() * &s;
+        let (t1, t2) = (self.k1a.clone() * &c, self.ka.clone() * &s);
+        let den_a = t1.clone() + &t2;
+        let half_area = if t1.abs() + &t2.abs() <= num_a.hypot(&den_a) * &T::from_i64(8) {
+            num_a.atan2(&den_a)
+        } else {
+            // Measured from B instead (eq. T at B): with W = n̂₁ × B the unit
+            // tangent at B towards q, sin c·sin β_s = det(A, B, W) = A·n̂₁ and
+            // sin c·cos β_s = A·W,
+            // tan(A_s/2) = sin(a_s/2)·sin c sin β_s / ((1 + cos c) cos(a_s/2) + sin c cos β_s·sin(a_s/2)).
+            // β_s comes from q directly, and cos(a_s/2) — ill-determined when
+            // C_s ≈ −B — only enters to absolute accuracy.
+            let sa = norm2(&d_vec).sqrt() / &two;
+            let ca = norm2(&e_vec).sqrt() / &two;
+            let tangent_b = n1.cross(&self.b);
+            let sign = if self.positive { T::one() } else { -T::one() };
+            let d_b = self.a_minus_b.dot(&n1) * &sign;
+            let k_b = self.a_minus_b.dot(&tangent_b);
+            (sa.clone() * &d_b).atan2(&(self.k1a.clone() * &ca + &(k_b * &sa)))
+        };
         let u = half_area / &self.half_omega;
-        // C_s − B = (C_s − A) + (A − B), C_s − A = 2 sin(θ/2)(cos(θ/2)[C|A] − sin(θ/2)A).
-        let two_s = s.clone() * &two;
-        let delta = self
-            .c_perp
-            .scale(&(two_s.clone() * &c))
-            .sub(&self.a.scale(&(two_s * &s)));
-        let d_vec = delta.add(&self.a_minus_b);
+        // v = sin²(∠Bq/2) / sin²(a_s/2) = |q − B|² / |C_s − B|².
         let v = norm2(&w) / &norm2(&d_vec);
         Some((clamp_keep_nan(&u), clamp_keep_nan(&v)))
     }

@@ -1,10 +1,10 @@
 //! Preprocessing: validation and orientation of the polygon, clipping
 //! against the receiver's horizon, and the partition into lunes.
 
-use super::lune::{Lune, LuneCdf, LuneEdge};
+use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::recipe::FittedCubic;
+use crate::recipe::{Inverter, Newton};
 use crate::shapes::polygon_measures::{oriented_solid_angle, turning_parts};
 use crate::vector::Vec3;
 
@@ -30,15 +30,19 @@ pub(super) struct Built<T> {
     pub arcs: Vec<Arc<T>>,
     pub lunes: Vec<Lune<T>>,
     pub edges: Vec<LuneEdge<T>>,
+    pub pairs: Vec<Pair<T>>,
     pub active: Vec<usize>,
-    pub fits: Vec<FittedCubic<T>>,
+    pub fits: Vec<[SideFit<T>; 2]>,
     pub measure: T,
     pub solid_angle: T,
 }
 
 /// `v / |v|`, scaling by the largest coordinate first (no overflow or
 /// underflow for huge or subnormal input).
-pub(super) fn unit_direction<T: Real>(v: &Vec3<T>, what: &'static str) -> Result<Vec3<T>, WarpError> {
+pub(super) fn unit_direction<T: Real>(
+    v: &Vec3<T>,
+    what: &'static str,
+) -> Result<Vec3<T>, WarpError> {
     if !v.is_finite() {
         return Err(WarpError::NonFinite { what });
     }
@@ -247,21 +251,44 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         .filter(|a| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
         .collect();
     let azimuth = |p: &Vec3<T>| p.y.atan2(&p.x);
-    let mut bounds: Vec<T> = Vec::with_capacity(2 * usable.len());
+    // Vertex meridians. Azimuths within rounding of each other (an edge
+    // lying along a meridian, computed with n_z a few units of roundoff off
+    // zero) are one meridian: no lune thinner than `merge` is formed, so the
+    // partition does not depend on the rounding of such edges.
+    let mut raw: Vec<T> = Vec::with_capacity(2 * usable.len());
     for a in &usable {
-        bounds.push(azimuth(&a.a));
-        bounds.push(azimuth(&a.b));
+        raw.push(azimuth(&a.a));
+        raw.push(azimuth(&a.b));
     }
-    bounds.sort_by(|x, y| x.partial_cmp(y).unwrap_or(core::cmp::Ordering::Equal));
-    bounds.dedup();
-    let m = bounds.len();
+    raw.sort_by(|x, y| x.partial_cmp(y).unwrap_or(core::cmp::Ordering::Equal));
+    raw.dedup();
+    let merge = T::from_i64(16) * &u * &T::pi();
+    let mut bounds: Vec<T> = Vec::with_capacity(raw.len());
+    let mut merged: Vec<usize> = Vec::with_capacity(raw.len());
+    for x in &raw {
+        match bounds.last() {
+            Some(b) if x.clone() - b <= merge => {}
+            _ => bounds.push(x.clone()),
+        }
+        merged.push(bounds.len() - 1);
+    }
+    let mut m = bounds.len();
+    if m >= 2 && bounds[0].clone() + &two_pi - &bounds[m - 1] <= merge {
+        // Across the branch cut of atan2: the last meridian is the first.
+        for i in merged.iter_mut() {
+            if *i == m - 1 {
+                *i = 0;
+            }
+        }
+        bounds.pop();
+        m -= 1;
+    }
     if m < 2 {
         return Err(degenerate("zero projected solid angle"));
     }
     let index = |x: &T| -> usize {
-        bounds
-            .partition_point(|b| b < x)
-            .min(m - 1)
+        let i = raw.partition_point(|b| b < x).min(raw.len() - 1);
+        merged[i]
     };
     let width = |k: usize| -> T {
         if k + 1 < m {
@@ -289,7 +316,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 // An edge through the pole within rounding: no area.
                 continue;
             }
-            return Err(degenerate("an edge sweeps more than half a turn of azimuth"));
+            return Err(degenerate(
+                "an edge sweeps more than half a turn of azimuth",
+            ));
         }
         let mut k = first;
         while k != last {
@@ -299,40 +328,65 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     }
 
     let half = T::from_ratio(1, 2);
+    let end_of = |k: usize| -> T {
+        if k + 1 < m {
+            bounds[k + 1].clone()
+        } else {
+            bounds[0].clone() + &two_pi
+        }
+    };
+    // Do arcs `i` and `j` share an endpoint on meridian number `k`?
+    let share_at = |i: usize, j: usize, k: usize| -> bool {
+        let (p, q) = (usable[i], usable[j]);
+        [&p.a, &p.b]
+            .iter()
+            .any(|e| (**e == q.a || **e == q.b) && index(&azimuth(e)) == k)
+    };
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::new();
+    let mut pairs: Vec<Pair<T>> = Vec::new();
     let mut magnitude = T::zero();
     for (k, list) in members.iter().enumerate() {
         let start = bounds[k].clone();
+        let end_az = end_of(k);
         let w = width(k);
         let (sin_a, cos_a) = start.sin_cos();
-        let mut lune_edges: Vec<LuneEdge<T>> = list
+        let (sin_b, cos_b) = end_az.sin_cos();
+        let mut lune_edges: Vec<(usize, LuneEdge<T>)> = list
             .iter()
             .map(|&ai| {
                 let n = &usable[ai].n;
-                LuneEdge::new(&n.x, &n.y, &n.z, &cos_a, &sin_a)
+                (
+                    ai,
+                    LuneEdge::new([&n.x, &n.y, &n.z], (&cos_a, &sin_a), (&cos_b, &sin_b)),
+                )
             })
             .collect();
         // Sort outwards at the middle meridian; check the order at the ends.
+        let r2_at = |e: &LuneEdge<T>, side: Side, c: &T, s: &T| -> T {
+            let sd = &e.side[side as usize];
+            let g = sd.g0.clone() * c + &(sd.k0.clone() * s);
+            e.nz2.clone() / &(e.nz2.clone() + &g.square())
+        };
         let (sm, cm) = (w.clone() * &half).sin_cos();
         lune_edges.sort_by(|p, q| {
-            p.crossing(&cm, &sm)
-                .0
-                .partial_cmp(&q.crossing(&cm, &sm).0)
+            r2_at(&p.1, Side::Start, &cm, &sm)
+                .partial_cmp(&r2_at(&q.1, Side::Start, &cm, &sm))
                 .unwrap_or(core::cmp::Ordering::Equal)
         });
-        let (s1, c1) = w.sin_cos();
-        for (c, s) in [(T::one(), T::zero()), (c1.clone(), s1.clone())] {
+        for side in [Side::Start, Side::End] {
             for pair in lune_edges.windows(2) {
-                let (r0, r1) = (pair[0].crossing(&c, &s).0, pair[1].crossing(&c, &s).0);
-                if r1 < r0.clone() - &slack {
-                    eprintln!("DEBUG lune {k} start {start} w {w} r0 {r0} r1 {r1} c {c} s {s}");
+                let (r0, r1) = (
+                    r2_at(&pair[0].1, side, &T::one(), &zero),
+                    r2_at(&pair[1].1, side, &T::one(), &zero),
+                );
+                if r1 < r0 - &slack {
                     return Err(degenerate("self-intersecting polygon (edges cross)"));
                 }
             }
         }
         // Boundaries alternate inner/outer and the outermost is outer.
-        let outer: Vec<bool> = lune_edges.iter().map(|e| e.nz > zero).collect();
+        let outer: Vec<bool> = lune_edges.iter().map(|e| e.1.nz > zero).collect();
         if let Some(last) = outer.last()
             && (!*last || outer.windows(2).any(|p| p[0] == p[1]))
         {
@@ -341,60 +395,116 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             ));
         }
         let pole_inside = outer.first().copied().unwrap_or(false);
-        let first = edges.len();
-        let two_area = if lune_edges.is_empty() {
-            zero.clone()
-        } else {
-            let mut sum = T::zero();
-            for e in &lune_edges {
-                let s = e.swept(&c1, &s1);
-                magnitude += &s.abs();
-                sum += &s;
+        let first_edge = edges.len();
+        let first_pair = pairs.len();
+        let mut j = 0;
+        while j < lune_edges.len() {
+            let (inner, outer_j) = if j == 0 && pole_inside {
+                (None, 0)
+            } else {
+                (Some(j), j + 1)
+            };
+            let o = &lune_edges[outer_j].1;
+            let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
+            let mut dr0 = [o.side[0].r0.clone(), o.side[1].r0.clone()];
+            if let Some(i) = inner {
+                let e = &lune_edges[i].1;
+                for (si, meridian) in [(0usize, k), (1, (k + 1) % m)] {
+                    let (os, es) = (&o.side[si], &e.side[si]);
+                    let a = o.nz.clone() * &es.g0 - &(e.nz.clone() * &os.g0);
+                    let b = o.nz.clone() * &es.k0 - &(e.nz.clone() * &os.k0);
+                    if share_at(lune_edges[i].0, lune_edges[outer_j].0, meridian) {
+                        d[si] = (zero.clone(), b);
+                        dr0[si] = zero.clone();
+                    } else {
+                        d[si] = (a, b);
+                        dr0[si] = os.r0.clone() - &es.r0;
+                    }
+                }
             }
-            sum.max(&zero)
-        };
-        edges.extend(lune_edges);
-        lunes.push(Lune {
+            pairs.push(Pair {
+                inner: inner.map(|i| first_edge + i),
+                outer: first_edge + outer_j,
+                d,
+                dr0,
+            });
+            j = outer_j + 1;
+        }
+        let n_edges = lune_edges.len();
+        edges.extend(lune_edges.into_iter().map(|e| e.1));
+        let mut lune = Lune {
             start,
-            width: w,
-            cos_a,
-            sin_a,
-            area: two_area.clone() * &half,
-            two_area,
+            end_az,
+            width: w.clone(),
+            cs_a: (cos_a, sin_a),
+            cs_b: (cos_b, sin_b),
+            two_area: [zero.clone(), zero.clone()],
+            area: zero.clone(),
             cum_start: zero.clone(),
-            first,
-            end: edges.len(),
-            pole_inside,
+            cum_after: zero.clone(),
+            first: first_pair,
+            end: pairs.len(),
+            n_edges,
             active: None,
-        });
+        };
+        if n_edges > 0 {
+            let (s1, c1) = w.sin_cos();
+            for side in [Side::Start, Side::End] {
+                lune.two_area[side as usize] =
+                    lune.swept(&edges, &pairs, side, &c1, &s1).max(&zero);
+            }
+            for e in &edges[first_edge..] {
+                // The size of the Lambert terms, for the rounding-level test.
+                magnitude += &(e.abs_nz.clone() * &w);
+            }
+            if lune.two_area[0] > zero && lune.two_area[1] > zero {
+                lune.area = lune.two_area[0].clone() * &half;
+            }
+        }
+        lunes.push(lune);
     }
     // Projected area by lune; lunes of zero area are never sampled.
     let mut measure = T::zero();
     let mut active = Vec::new();
-    let mut fits = Vec::new();
     for (k, lune) in lunes.iter_mut().enumerate() {
         lune.cum_start = measure.clone();
-        if lune.two_area > zero {
+        if lune.area > zero {
             measure += &lune.area;
             lune.active = Some(active.len());
             active.push(k);
         }
+    }
+    let mut after = T::zero();
+    for lune in lunes.iter_mut().rev() {
+        lune.cum_after = after.clone();
+        after += &lune.area;
     }
     if !(measure > T::from_i64(64) * &u * &magnitude) || !measure.is_finite() {
         return Err(degenerate(
             "zero projected solid angle (the polygon lies on or below the horizon)",
         ));
     }
+    let mut fits = Vec::new();
     for &k in &active {
-        fits.push(FittedCubic::fit(&LuneCdf {
+        let cdf = |side| LuneCdf {
             lune: &lunes[k],
             edges: &edges,
-        }));
+            pairs: &pairs,
+            side,
+        };
+        // Split where F = 1/2: each side inverts its own half.
+        let xh = Newton::default().invert(&cdf(Side::Start), &half).x;
+        let xh_end = lunes[k].width.clone() - &xh;
+        fits.push([
+            SideFit::new(cdf(Side::Start), xh),
+            SideFit::new(cdf(Side::End), xh_end),
+        ]);
     }
     Ok(Built {
         arcs,
         lunes,
         edges,
+        pairs,
         active,
         fits,
         measure,

@@ -2,20 +2,43 @@
 //! it, its marginal CDF (a [`Cdf1`] for the framework's inverters) and the
 //! conditional distribution on a meridian.
 //!
-//! Notation (see `docs/projected-polygon.md`): the lune is
-//! `φ ∈ [a, a + Δ]`, the local coordinate is `δ = φ − a`, and `(c, s) =
-//! (cos δ, sin δ)`. An edge lies on the great circle with unit normal
-//! `n = (n_x, n_y, n_z)`; on the meridian at azimuth φ it sits at
+//! Notation (see `docs/projected-polygon.md`): the lune is `φ ∈ [a, b]`,
+//! `Δ = b − a`. Everything is evaluated from either end ([`Side`]): from
+//! the start with `x = φ − a`, from the end with `x = b − φ`, and
+//! `(c, s) = (cos x, sin x)`; evaluating from the nearer end keeps the
+//! relative accuracy of the small quantities there. An edge lies on the
+//! great circle with unit normal `n`; on the meridian at φ it sits at
 //!
 //! r² = n_z² / (n_z² + g²),  z² = g² / (n_z² + g²),  g(φ) = n_x cos φ + n_y sin φ,
 //!
-//! with `g = g_a c − k_a s`, `g_a = g(a)`, `k_a = g'(a) = −n_x sin a + n_y cos a`.
-//! `r` is the distance from the pole in the projected (unit-disk) picture.
+//! with `g = g₀ c + k₀ s` in side coordinates (`g₀ = g(a)`, `k₀ = g'(a)` from
+//! the start; `g₀ = g(b)`, `k₀ = −g'(b)` from the end). `r` is the distance
+//! from the pole in the projected (unit-disk) picture.
 
 use crate::real::Real;
 use crate::recipe::Cdf1;
 
-/// An edge crossing a lune: its great circle in the lune's coordinates.
+/// The end of a lune that coordinates are measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Side {
+    /// x = φ − a.
+    Start = 0,
+    /// x = b − φ.
+    End = 1,
+}
+
+/// An edge's great circle seen from one end of a lune.
+#[derive(Clone, Debug)]
+pub(super) struct EdgeSide<T> {
+    /// g at the side's meridian.
+    pub g0: T,
+    /// dg/dx there.
+    pub k0: T,
+    /// r at the side's meridian.
+    pub r0: T,
+}
+
+/// An edge crossing a lune.
 #[derive(Clone, Debug)]
 pub(super) struct LuneEdge<T> {
     /// n_z, signed: positive for an *outer* boundary (the region lies on the
@@ -25,47 +48,68 @@ pub(super) struct LuneEdge<T> {
     pub abs_nz: T,
     /// n_z².
     pub nz2: T,
-    /// g(a) = n_x cos a + n_y sin a.
-    pub g_a: T,
-    /// g'(a) = −n_x sin a + n_y cos a.
-    pub k_a: T,
+    /// Constants from the start and from the end.
+    pub side: [EdgeSide<T>; 2],
 }
 
 impl<T: Real> LuneEdge<T> {
-    /// The edge's constants for a lune starting at azimuth `a` (given as
-    /// `cos a`, `sin a`) from the great circle's unit normal `n`.
-    pub fn new(nx: &T, ny: &T, nz: &T, cos_a: &T, sin_a: &T) -> Self {
+    /// The edge's constants for the lune `[a, b]` (given by the cosines and
+    /// sines of its ends) from the great circle's unit normal `n`.
+    pub fn new(n: [&T; 3], a: (&T, &T), b: (&T, &T)) -> Self {
+        let [nx, ny, nz] = n;
+        let nz2 = nz.square();
+        let side = |(cos, sin): (&T, &T), sign: bool| {
+            let g0 = nx.clone() * cos + &(ny.clone() * sin);
+            let k = ny.clone() * cos - &(nx.clone() * sin);
+            let r0 = nz.abs() / &(nz2.clone() + &g0.square()).sqrt();
+            EdgeSide {
+                g0,
+                k0: if sign { k } else { -k },
+                r0,
+            }
+        };
         LuneEdge {
             nz: nz.clone(),
             abs_nz: nz.abs(),
-            nz2: nz.square(),
-            g_a: nx.clone() * cos_a + &(ny.clone() * sin_a),
-            k_a: ny.clone() * cos_a - &(nx.clone() * sin_a),
+            nz2: nz2.clone(),
+            side: [side(a, true), side(b, false)],
         }
     }
 
-    /// `(r², z²)` of the edge's point on the meridian at `δ`.
+    /// `(g, n_z² + g²)` at side coordinate `(c, s)`.
     #[inline]
-    pub fn crossing(&self, c: &T, s: &T) -> (T, T) {
-        let g = self.g_a.clone() * c - &(self.k_a.clone() * s);
-        let g2 = g.square();
-        let den = self.nz2.clone() + &g2;
-        (self.nz2.clone() / &den, g2 / &den)
+    fn g(&self, side: Side, c: &T, s: &T) -> (T, T) {
+        let e = &self.side[side as usize];
+        let g = e.g0.clone() * c + &(e.k0.clone() * s);
+        let den = self.nz2.clone() + &g.square();
+        (g, den)
     }
 
-    /// n_z · α(δ), with α(δ) the arc of the edge's great circle between its
-    /// points on the meridians at `a` and `a + δ`:
-    ///
-    /// α(δ) = atan2(|n_z| sin δ, n_z² cos δ + g_a g(δ))   (eq. 1.47).
-    ///
-    /// Half of it is the signed projected area swept (Lambert, eq. 1.53).
+    /// α(x): the arc of the edge's great circle between its points on the
+    /// side's meridian and at side coordinate x (eq. 1.47):
+    /// `α = atan2(|n_z| sin x, n_z² cos x + g₀ g(x))`.
     #[inline]
-    pub fn swept(&self, c: &T, s: &T) -> T {
-        let g = self.g_a.clone() * c - &(self.k_a.clone() * s);
+    fn alpha(&self, side: Side, g: &T, c: &T, s: &T) -> T {
+        let e = &self.side[side as usize];
         let y = self.abs_nz.clone() * s;
-        let x = self.nz2.clone() * c + &(self.g_a.clone() * &g);
-        y.atan2(&x) * &self.nz
+        let x = self.nz2.clone() * c + &(e.g0.clone() * g);
+        y.atan2(&x)
     }
+}
+
+/// One interval of the polygon on the meridians of a lune: between an inner
+/// edge (or the pole) and an outer edge.
+#[derive(Clone, Debug)]
+pub(super) struct Pair<T> {
+    /// Inner edge (index into the edges), `None` for the pole.
+    pub inner: Option<usize>,
+    /// Outer edge.
+    pub outer: usize,
+    /// `D = n_z,o g_i − n_z,i g_o = A c + B s` from each side (A exactly 0
+    /// where the two edges meet at that side's meridian).
+    pub d: [(T, T); 2],
+    /// r_o − r_i at each side's meridian (exactly 0 at a shared vertex).
+    pub dr0: [T; 2],
 }
 
 /// An azimuth interval `[start, start + width]` with no vertex inside.
@@ -73,98 +117,183 @@ impl<T: Real> LuneEdge<T> {
 pub(super) struct Lune<T> {
     /// Azimuth `a` of the lune's first meridian, radians.
     pub start: T,
+    /// Azimuth `b` of its last meridian (`start + width`, exactly as the
+    /// next lune's start, or one turn more for the last lune).
+    pub end_az: T,
     /// Width Δ, radians.
     pub width: T,
-    /// cos a.
-    pub cos_a: T,
-    /// sin a.
-    pub sin_a: T,
-    /// 2 × the projected area of the polygon inside the lune (0 if empty).
-    pub two_area: T,
+    /// (cos a, sin a).
+    pub cs_a: (T, T),
+    /// (cos b, sin b).
+    pub cs_b: (T, T),
+    /// 2 × the projected area of the polygon inside the lune (0 if empty),
+    /// as summed from each side.
+    pub two_area: [T; 2],
     /// The projected area of the polygon inside the lune.
     pub area: T,
     /// Projected area of the polygon in the lunes before this one.
     pub cum_start: T,
-    /// The lune's edges: `edges[first..end]`, sorted by distance from the pole.
+    /// Projected area of the polygon in the lunes after this one.
+    pub cum_after: T,
+    /// The lune's intervals: `pairs[first..end]`, from the pole outwards.
     pub first: usize,
-    /// One past the last edge.
+    /// One past the last interval.
     pub end: usize,
-    /// Whether the pole side of the innermost edge belongs to the polygon.
-    pub pole_inside: bool,
+    /// Number of edges crossing the lune.
+    pub n_edges: usize,
     /// Index among the lunes of positive area (those that are sampled).
     pub active: Option<usize>,
 }
 
+/// The two ends of one interval on a meridian, in r² and z², and its
+/// length in r².
+pub(super) struct Interval<T> {
+    pub r_in: T,
+    pub z_in: T,
+    pub r_out: T,
+    pub z_out: T,
+    pub len: T,
+}
+
+/// α − sin α, accurate also for small α (series below 1/4).
+fn alpha_minus_sin<T: Real>(a: &T) -> T {
+    if a.abs() > T::from_ratio(1, 4) {
+        return a.clone() - &a.sin();
+    }
+    let a2 = a.square();
+    let mut term = a.clone() * &a2 / &T::from_i64(6);
+    let mut sum = term.clone();
+    let tol = T::unit_roundoff();
+    for k in 1..400i64 {
+        term = -(term * &a2) / &T::from_i64((2 * k + 2) * (2 * k + 3));
+        sum += &term;
+        if term.abs() <= tol.clone() * &sum.abs() {
+            break;
+        }
+    }
+    sum
+}
+
 impl<T: Real> Lune<T> {
-    /// Number of interval boundaries on a meridian (the pole counts as one
-    /// when inside).
-    fn n_bounds(&self) -> usize {
-        self.end - self.first + usize::from(self.pole_inside)
+    fn pairs<'a>(&self, pairs: &'a [Pair<T>]) -> &'a [Pair<T>] {
+        &pairs[self.first..self.end]
     }
 
-    /// `(r², z²)` of boundary `j` (0 = the pole when it is inside).
+    /// The interval of `pair` on the meridian at side coordinate `(c, s)`.
     #[inline]
-    fn bound(&self, edges: &[LuneEdge<T>], j: usize, c: &T, s: &T) -> (T, T) {
-        if self.pole_inside {
-            if j == 0 {
-                (T::zero(), T::one())
-            } else {
-                edges[self.first + j - 1].crossing(c, s)
+    pub fn interval(
+        &self,
+        edges: &[LuneEdge<T>],
+        pair: &Pair<T>,
+        side: Side,
+        c: &T,
+        s: &T,
+    ) -> Interval<T> {
+        let o = &edges[pair.outer];
+        let (g_o, den_o) = o.g(side, c, s);
+        let r_out = o.nz2.clone() / &den_o;
+        let z_out = g_o.square() / &den_o;
+        match pair.inner {
+            None => Interval {
+                r_in: T::zero(),
+                z_in: T::one(),
+                len: r_out.clone(),
+                r_out,
+                z_out,
+            },
+            Some(i) => {
+                let e = &edges[i];
+                let (g_i, den_i) = e.g(side, c, s);
+                let (a, b) = &pair.d[side as usize];
+                // r_o² − r_i² = D E / (den_o den_i), D = n_o g_i − n_i g_o,
+                // E = n_o g_i + n_i g_o: no cancellation where D → 0 at a
+                // shared vertex (A = 0 exactly there).
+                let d = a.clone() * c + &(b.clone() * s);
+                let ee = o.nz.clone() * &g_i + &(e.nz.clone() * &g_o);
+                let len = (d * &ee / &(den_o * &den_i)).max(&T::zero());
+                Interval {
+                    r_in: e.nz2.clone() / &den_i,
+                    z_in: g_i.square() / &den_i,
+                    r_out,
+                    z_out,
+                    len,
+                }
             }
-        } else {
-            edges[self.first + j].crossing(c, s)
         }
     }
 
-    /// The intervals `(inner, outer)` of the polygon on the meridian at δ,
-    /// from the pole outwards.
-    #[inline]
-    fn interval(&self, edges: &[LuneEdge<T>], i: usize, c: &T, s: &T) -> Interval<T> {
-        let (r_in, z_in) = self.bound(edges, 2 * i, c, s);
-        let (r_out, z_out) = self.bound(edges, 2 * i + 1, c, s);
-        Interval::new(r_in, z_in, r_out, z_out)
-    }
-
-    fn n_intervals(&self) -> usize {
-        self.n_bounds() / 2
-    }
-
-    /// Σ n_z α over the lune's edges at δ: 2 × the projected area between
-    /// the meridians at `a` and `a + δ`.
-    pub fn swept(&self, edges: &[LuneEdge<T>], c: &T, s: &T) -> T {
-        let mut sum = T::zero();
-        for e in &edges[self.first..self.end] {
-            sum += &e.swept(c, s);
+    /// 2 × the projected area between the side's meridian and side
+    /// coordinate x, as the sum over the edges of the polar triangles
+    /// `r₀ r(x) sin x` plus the elliptic segments `|n_z| (α − sin α)`
+    /// (signed by n_z), with the triangles of each interval grouped so that
+    /// the area of a thin interval next to a shared vertex keeps its
+    /// relative accuracy.
+    pub fn swept(&self, edges: &[LuneEdge<T>], pairs: &[Pair<T>], side: Side, c: &T, s: &T) -> T {
+        let mut tri = T::zero();
+        let mut seg = T::zero();
+        let si = side as usize;
+        for p in self.pairs(pairs) {
+            let o = &edges[p.outer];
+            let iv = self.interval(edges, p, side, c, s);
+            let (g_o, _) = o.g(side, c, s);
+            seg += &(alpha_minus_sin(&o.alpha(side, &g_o, c, s)) * &o.abs_nz);
+            let r_o = iv.r_out.sqrt();
+            match p.inner {
+                None => tri += &(o.side[si].r0.clone() * &r_o),
+                Some(i) => {
+                    let e = &edges[i];
+                    let (g_i, _) = e.g(side, c, s);
+                    seg -= &(alpha_minus_sin(&e.alpha(side, &g_i, c, s)) * &e.abs_nz);
+                    let r_i = iv.r_in.sqrt();
+                    let sum = r_o.clone() + &r_i;
+                    let diff = if sum > T::zero() {
+                        iv.len.clone() / &sum
+                    } else {
+                        T::zero()
+                    };
+                    // r_o0 r_o − r_i0 r_i = r_o0 (r_o − r_i) + r_i (r_o0 − r_i0).
+                    tri += &(o.side[si].r0.clone() * &diff + &(r_i * &p.dr0[si]));
+                }
+            }
         }
-        sum
+        tri * s + &seg
     }
 
     /// The total length, in r², of the polygon's intervals on the meridian:
     /// 2 × the derivative of the projected area with respect to φ.
-    pub fn chord(&self, edges: &[LuneEdge<T>], c: &T, s: &T) -> T {
+    pub fn chord(&self, edges: &[LuneEdge<T>], pairs: &[Pair<T>], side: Side, c: &T, s: &T) -> T {
         let mut sum = T::zero();
-        for i in 0..self.n_intervals() {
-            sum += &self.interval(edges, i, c, s).len;
+        for p in self.pairs(pairs) {
+            sum += &self.interval(edges, p, side, c, s).len;
         }
         sum
     }
 
     /// `(r², z²)` of the point at conditional probability `v` on the
-    /// meridian at δ: uniform in r² (equivalently in z²) over the union of
-    /// intervals. `v ≤ 1/2` is measured from the pole, `v > 1/2` from the
-    /// outer end with `1 − v` (exact there), so that both ends keep their
-    /// relative accuracy.
-    pub fn sample(&self, edges: &[LuneEdge<T>], c: &T, s: &T, v: &T) -> (T, T) {
-        let total = self.chord(edges, c, s);
-        let ni = self.n_intervals();
+    /// meridian at side coordinate `(c, s)`: uniform in r² (equivalently in
+    /// z²) over the union of intervals, from the pole outwards. `v ≤ 1/2` is
+    /// measured from the pole, `v > 1/2` from the outer end with `1 − v`
+    /// (exact there), so that both ends keep their relative accuracy.
+    pub fn sample(
+        &self,
+        edges: &[LuneEdge<T>],
+        pairs: &[Pair<T>],
+        side: Side,
+        c: &T,
+        s: &T,
+        v: &T,
+    ) -> (T, T) {
+        let list = self.pairs(pairs);
+        let total = self.chord(edges, pairs, side, c, s);
+        let ni = list.len();
         let zero = T::zero();
         let one = T::one();
-        let (r2, z2) = if *v <= T::from_ratio(1, 2) || v.is_nan() {
+        let mut out = (zero.clone(), one.clone());
+        if *v <= T::from_ratio(1, 2) || v.is_nan() {
             let w = v.clone() * &total;
             let mut cum = T::zero();
-            let mut out = (zero.clone(), one.clone());
-            for i in 0..ni {
-                let iv = self.interval(edges, i, c, s);
+            for (i, p) in list.iter().enumerate() {
+                let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i + 1 == ni {
                     let t = (w - &cum).clamp(&zero, &iv.len);
                     out = (iv.r_in + &t, iv.z_in - &t);
@@ -172,13 +301,11 @@ impl<T: Real> Lune<T> {
                 }
                 cum += &iv.len;
             }
-            out
         } else {
             let w = (one.clone() - v) * &total;
             let mut cum = T::zero();
-            let mut out = (one.clone(), zero.clone());
-            for i in (0..ni).rev() {
-                let iv = self.interval(edges, i, c, s);
+            for (i, p) in list.iter().enumerate().rev() {
+                let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i == 0 {
                     let t = (w - &cum).clamp(&zero, &iv.len);
                     out = (iv.r_out - &t, iv.z_out + &t);
@@ -186,26 +313,36 @@ impl<T: Real> Lune<T> {
                 }
                 cum += &iv.len;
             }
-            out
-        };
-        (r2.clamp(&zero, &one), z2.clamp(&zero, &one))
+        }
+        (out.0.clamp(&zero, &one), out.1.clamp(&zero, &one))
     }
 
-    /// The conditional CDF at the point `(r², z²)` of the meridian at δ
-    /// (inverse of [`Lune::sample`]); points in a gap between intervals
-    /// snap to the next interval's inner end.
-    pub fn conditional_cdf(&self, edges: &[LuneEdge<T>], c: &T, s: &T, r2: &T, z2: &T) -> T {
-        let total = self.chord(edges, c, s);
+    /// The conditional CDF at the point `(r², z²)` of the meridian at side
+    /// coordinate `(c, s)` (inverse of [`Lune::sample`]); points in a gap
+    /// between intervals snap to the next interval's inner end.
+    #[allow(clippy::too_many_arguments)]
+    pub fn conditional_cdf(
+        &self,
+        edges: &[LuneEdge<T>],
+        pairs: &[Pair<T>],
+        side: Side,
+        c: &T,
+        s: &T,
+        r2: &T,
+        z2: &T,
+    ) -> T {
+        let list = self.pairs(pairs);
+        let total = self.chord(edges, pairs, side, c, s);
         if !(total > T::zero()) {
             return T::zero();
         }
-        let ni = self.n_intervals();
+        let ni = list.len();
         let half = T::from_ratio(1, 2);
         let zero = T::zero();
         let mut cum = T::zero();
         let mut chosen = ni.saturating_sub(1);
-        for i in 0..ni {
-            let iv = self.interval(edges, i, c, s);
+        for (i, p) in list.iter().enumerate() {
+            let iv = self.interval(edges, p, side, c, s);
             if *r2 <= iv.r_out || i + 1 == ni {
                 chosen = i;
                 // Offset from the inner end, from whichever coordinate is
@@ -225,10 +362,10 @@ impl<T: Real> Lune<T> {
         }
         // In the outer half: measure 1 − v from the outer end.
         let mut after = T::zero();
-        for i in (chosen + 1..ni).rev() {
-            after += &self.interval(edges, i, c, s).len;
+        for p in &list[chosen + 1..] {
+            after += &self.interval(edges, p, side, c, s).len;
         }
-        let iv = self.interval(edges, chosen, c, s);
+        let iv = self.interval(edges, &list[chosen], side, c, s);
         let t = if *r2 <= half {
             iv.r_out.clone() - r2
         } else {
@@ -238,64 +375,204 @@ impl<T: Real> Lune<T> {
         (T::one() - &(rest / &total)).clamp(&zero, &T::one())
     }
 
-    /// Whether the point `(r², ·)` of the meridian at δ lies in one of the
-    /// polygon's intervals (closed).
-    pub fn contains(&self, edges: &[LuneEdge<T>], c: &T, s: &T, r2: &T) -> bool {
-        (0..self.n_intervals()).any(|i| {
-            let iv = self.interval(edges, i, c, s);
-            *r2 >= iv.r_in && *r2 <= iv.r_out
+    /// Whether the point `(r², z²)` of the meridian at side coordinate
+    /// `(c, s)` lies in one of the polygon's intervals (closed), compared in
+    /// r² near the pole and in z² near the horizon (where r² is too coarse).
+    #[allow(clippy::too_many_arguments)]
+    pub fn contains(
+        &self,
+        edges: &[LuneEdge<T>],
+        pairs: &[Pair<T>],
+        side: Side,
+        c: &T,
+        s: &T,
+        r2: &T,
+        z2: &T,
+    ) -> bool {
+        let near_pole = *r2 <= T::from_ratio(1, 2);
+        self.pairs(pairs).iter().any(|p| {
+            let iv = self.interval(edges, p, side, c, s);
+            if near_pole {
+                *r2 >= iv.r_in && *r2 <= iv.r_out
+            } else {
+                *z2 <= iv.z_in && *z2 >= iv.z_out
+            }
         })
     }
 }
 
-/// One interval `[r_in², r_out²]` of a meridian, with the matching z².
-struct Interval<T> {
-    r_in: T,
-    z_in: T,
-    r_out: T,
-    z_out: T,
-    /// r_out² − r_in² = z_in² − z_out² (≥ 0), from whichever pair is accurate.
-    len: T,
-}
-
-impl<T: Real> Interval<T> {
-    #[inline]
-    fn new(r_in: T, z_in: T, r_out: T, z_out: T) -> Self {
-        let len = if r_out <= T::from_ratio(1, 2) {
-            r_out.clone() - &r_in
-        } else {
-            z_in.clone() - &z_out
-        };
-        let len = len.max(&T::zero());
-        Interval {
-            r_in,
-            z_in,
-            r_out,
-            z_out,
-            len,
-        }
-    }
-}
-
-/// The marginal CDF of one lune, `F(δ) = Σ n_z α(δ) / Σ n_z α(Δ)` on
-/// `[0, Δ]`, with density `F'(δ) = L(δ) / Σ n_z α(Δ)` (`L` the chord in r²).
+/// The marginal CDF of one lune measured from one side,
+/// `F(x) = swept(x) / swept(Δ)` on `[0, Δ]`, with density
+/// `F'(x) = L(x) / swept(Δ)` (`L` the chord in r²). From the end it is the
+/// complementary CDF `1 − F_start(Δ − x)`.
 pub(super) struct LuneCdf<'a, T> {
     /// The lune.
     pub lune: &'a Lune<T>,
     /// All lunes' edges.
     pub edges: &'a [LuneEdge<T>],
+    /// All lunes' intervals.
+    pub pairs: &'a [Pair<T>],
+    /// Where x is measured from.
+    pub side: Side,
 }
 
 impl<T: Real> Cdf1<T> for LuneCdf<'_, T> {
     fn cdf(&self, x: &T) -> T {
         let (s, c) = x.sin_cos();
-        self.lune.swept(self.edges, &c, &s) / &self.lune.two_area
+        self.lune.swept(self.edges, self.pairs, self.side, &c, &s)
+            / &self.lune.two_area[self.side as usize]
     }
     fn pdf(&self, x: &T) -> T {
         let (s, c) = x.sin_cos();
-        self.lune.chord(self.edges, &c, &s) / &self.lune.two_area
+        self.lune.chord(self.edges, self.pairs, self.side, &c, &s)
+            / &self.lune.two_area[self.side as usize]
     }
     fn domain(&self) -> (T, T) {
         (T::zero(), self.lune.width.clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::alpha_minus_sin;
+
+    #[test]
+    fn alpha_minus_sin_small_and_large() {
+        for a in [1e-8f64, 1e-3, 0.1, 0.2499, 0.25, 0.3, 1.0, 3.0] {
+            let series = alpha_minus_sin(&a);
+            // Reference: the series summed in f64 to many terms, or direct.
+            let mut t = a * a * a / 6.0;
+            let mut want = t;
+            for k in 1..30 {
+                t = -t * a * a / ((2 * k + 2) * (2 * k + 3)) as f64;
+                want += t;
+            }
+            // Series below 1/4: relative accuracy; above: absolute u·α.
+            let tol = if a < 0.25 { want.abs() } else { a };
+            assert!(
+                (series - want).abs() <= 4.0 * f64::EPSILON * tol,
+                "{a}: {series} {want}"
+            );
+        }
+        assert_eq!(alpha_minus_sin(&0.0f64), 0.0);
+    }
+}
+
+/// The part of a lune's marginal that one side inverts: from the side's
+/// meridian to the split point `x_h` (where F_start = ½), rescaled to
+/// `[0, 1]` and raised to the power `1/m`, with `m` the order of the zero
+/// of F at the side's meridian:
+///
+/// G(x) = (F(x) / F(x_h))^(1/m),  x ∈ [0, x_h].
+///
+/// `m = 1` at a generic end, `m = 2` at an extremal vertex (the polygon's
+/// chord vanishes linearly, F ~ x²), `m = 3` where two edges meet
+/// tangentially in projection (at a vertex on the horizon, F ~ x³). G is
+/// then nearly linear, which is what the fitted cubic and Newton like: F⁻¹
+/// itself has a `y^(1/m)` singularity there that no cubic in y follows.
+pub(super) struct HalfCdf<'a, T> {
+    /// The side's marginal.
+    pub base: LuneCdf<'a, T>,
+    /// The split point, in side coordinates.
+    pub xh: T,
+    /// F(x_h).
+    pub fh: T,
+    /// The order of the zero of F at x = 0.
+    pub m: u8,
+}
+
+impl<T: Real> HalfCdf<'_, T> {
+    /// `(y / F(x_h))^(1/m)`: the target in G of the full-marginal value `y`.
+    pub fn target(&self, y: &T) -> T {
+        let t = (y.clone() / &self.fh).clamp(&T::zero(), &T::one());
+        root(&t, self.m)
+    }
+}
+
+fn root<T: Real>(x: &T, m: u8) -> T {
+    match m {
+        1 => x.clone(),
+        2 => x.sqrt(),
+        _ => x.cbrt(),
+    }
+}
+
+impl<T: Real> Cdf1<T> for HalfCdf<'_, T> {
+    fn cdf(&self, x: &T) -> T {
+        let f = (self.base.cdf(x) / &self.fh).max(&T::zero());
+        root(&f, self.m)
+    }
+    fn pdf(&self, x: &T) -> T {
+        let f = (self.base.cdf(x) / &self.fh).max(&T::zero());
+        let d = self.base.pdf(x) / &self.fh;
+        match self.m {
+            1 => d,
+            // d/dx f^(1/m) = f' / (m f^((m−1)/m)); 0/0 = NaN at f = 0 tells
+            // the solvers not to take a Newton step there.
+            2 => d / &(f.sqrt() * &T::from_i64(2)),
+            _ => d / &(f.cbrt().square() * &T::from_i64(3)),
+        }
+    }
+    fn domain(&self) -> (T, T) {
+        (T::zero(), self.xh.clone())
+    }
+}
+
+/// The fitted inverse of one side of a lune.
+#[derive(Clone, Debug)]
+pub(super) struct SideFit<T> {
+    /// The cubic fitted to G⁻¹.
+    pub cubic: crate::recipe::FittedCubic<T>,
+    /// The split point x_h in side coordinates.
+    pub xh: T,
+    /// F(x_h).
+    pub fh: T,
+    /// The order of the zero of F at the side's meridian.
+    pub m: u8,
+}
+
+impl<T: Real> SideFit<T> {
+    /// Fits side `side` of `lune` up to the split point `xh`.
+    pub fn new(base: LuneCdf<'_, T>, xh: T) -> Self {
+        let fh = base.cdf(&xh);
+        let m = zero_order(&base, &xh);
+        let half = HalfCdf {
+            base,
+            xh: xh.clone(),
+            fh: fh.clone(),
+            m,
+        };
+        let cubic = crate::recipe::FittedCubic::fit(&half);
+        SideFit { cubic, xh, fh, m }
+    }
+
+    /// The [`HalfCdf`] of this fit over `base`.
+    pub fn half<'a>(&self, base: LuneCdf<'a, T>) -> HalfCdf<'a, T> {
+        HalfCdf {
+            base,
+            xh: self.xh.clone(),
+            fh: self.fh.clone(),
+            m: self.m,
+        }
+    }
+}
+
+/// The order m ∈ {1, 2, 3} of the zero of F at 0: 1 if the density is
+/// positive there, else the rounded log₂ of F(h)/F(h/2) at h = x_h/1024.
+fn zero_order<T: Real>(base: &LuneCdf<'_, T>, xh: &T) -> u8 {
+    if base.pdf(&T::zero()) > T::zero() {
+        return 1;
+    }
+    let h = xh.clone() * &T::exp2i(-10);
+    let (f1, f2) = (base.cdf(&h), base.cdf(&(h / &T::from_i64(2))));
+    if !(f1 > T::zero() && f2 > T::zero()) {
+        return 2;
+    }
+    // log₂ ratio ≥ 2.5 ⇔ ratio ≥ 2^2.5 ≈ 5.657: compare the ratio squared
+    // with 32 (no logarithm needed).
+    if (f1 / &f2).square() >= T::from_i64(32) {
+        3
+    } else {
+        2
     }
 }

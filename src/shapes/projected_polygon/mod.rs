@@ -11,11 +11,12 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, partition, prepare, unit_direction};
-use self::lune::{Lune, LuneCdf, LuneEdge};
+use self::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::recipe::{FittedCubic, Inverter, Newton, Tolerance};
+use crate::recipe::Cdf1;
+use crate::recipe::{Inverter, Newton, Tolerance};
 use crate::vector::Vec3;
 use crate::warp::{Warp, WarpFamily};
 
@@ -175,10 +176,11 @@ pub struct ProjectedPolygon<T> {
     arcs: Vec<Arc<T>>,
     lunes: Vec<Lune<T>>,
     edges: Vec<LuneEdge<T>>,
+    pairs: Vec<Pair<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
-    /// Fitted inverse marginal per active lune.
-    fits: Vec<FittedCubic<T>>,
+    /// Fitted inverse marginal per active lune, from the start and the end.
+    fits: Vec<[SideFit<T>; 2]>,
     measure: T,
     solid_angle: T,
     two_pi: T,
@@ -342,6 +344,7 @@ impl<T: Real> ProjectedPolygon<T> {
             arcs,
             lunes,
             edges,
+            pairs,
             active,
             fits,
             measure,
@@ -354,6 +357,7 @@ impl<T: Real> ProjectedPolygon<T> {
             arcs,
             lunes,
             edges,
+            pairs,
             active,
             fits,
             measure,
@@ -404,53 +408,80 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The largest number of edges crossing one lune (2 for a convex
     /// polygon off the pole, 1 around it): the per-sample cost factor.
     pub fn max_edges_per_lune(&self) -> usize {
-        self.lunes
-            .iter()
-            .map(|l| l.end - l.first)
-            .max()
-            .unwrap_or(0)
+        self.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
     }
 
-    /// The active lune that `u` falls in, and the normalized position
-    /// `y ∈ [0, 1]` in its marginal.
-    fn select(&self, u: &T) -> (usize, T) {
-        let t = clamp_unit(u) * &self.measure;
+    /// The active lune that `u` falls in (index among the active lunes),
+    /// the side to invert its marginal from, and the normalized position in
+    /// that side's marginal: `y ∈ [0, 1/2]`-ish from the start, or the
+    /// complementary position from the end, computed from `1 − u` (exact
+    /// for `u ≥ 1/2`) so that the last lune keeps its relative accuracy.
+    fn select(&self, u: &T) -> (usize, Side, T) {
+        let u = clamp_unit(u);
+        let half = T::from_ratio(1, 2);
+        let (zero, one) = (T::zero(), T::one());
         let na = self.active.len();
-        // The first active lune whose end is above t.
-        let k = self.active[..na - 1].partition_point(|&l| {
-            let lune = &self.lunes[l];
-            lune.cum_start.clone() + &lune.area <= t
-        });
+        let t = u.clone() * &self.measure;
+        let t_rev = (one.clone() - &u) * &self.measure;
+        let k = if u <= half {
+            self.active[..na - 1].partition_point(|&l| {
+                let lune = &self.lunes[l];
+                lune.cum_start.clone() + &lune.area <= t
+            })
+        } else {
+            self.active[..na - 1].partition_point(|&l| self.lunes[l].cum_after > t_rev)
+        };
         let lune = &self.lunes[self.active[k]];
-        let y = ((t - &lune.cum_start) / &lune.area).clamp(&T::zero(), &T::one());
-        (k, y)
+        let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
+        if y <= self.fits[k][0].fh {
+            (k, Side::Start, y)
+        } else {
+            let y_end = ((t_rev - &lune.cum_after) / &lune.area).clamp(&zero, &one);
+            (k, Side::End, y_end)
+        }
     }
 
-    /// δ = F⁻¹(y) in active lune `k`, with the configured inversion.
-    fn invert_marginal(&self, k: usize, y: &T) -> T {
-        let lune = &self.lunes[self.active[k]];
-        let cdf = LuneCdf {
-            lune,
+    fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
+        LuneCdf {
+            lune: &self.lunes[l],
             edges: &self.edges,
-        };
-        let fit = &self.fits[k];
+            pairs: &self.pairs,
+            side,
+        }
+    }
+
+    /// x = F⁻¹(y) from `side` of active lune `k`, with the configured
+    /// inversion, in the transformed half-marginal G of [`SideFit`].
+    fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
+        let fit = &self.fits[k][side as usize];
+        let cdf = fit.half(self.lune_cdf(self.active[k], side));
+        let target = cdf.target(y);
+        let cubic = &fit.cubic;
         match self.inversion {
             MarginalInversion::Cubic => {
-                let (lo, hi) = fit.bracket(y);
-                fit.eval(y).clamp(&lo, &hi)
+                let (lo, hi) = cubic.bracket(&target);
+                cubic.eval(&target).clamp(&lo, &hi)
             }
-            MarginalInversion::CubicNewton(steps) => fit.invert(&cdf, y, steps).x,
+            MarginalInversion::CubicNewton(steps) => cubic.invert(&cdf, &target, steps).x,
             MarginalInversion::Newton => {
                 let newton = Newton {
                     tolerance: Tolerance::Ulps(4),
                     max_iterations: 100,
                     start: None,
                 };
-                if *y > T::zero() && *y < T::one() {
-                    let (lo, hi) = fit.bracket(y);
-                    newton.solve_in(&cdf, y, fit.eval(y), lo, hi).x
+                if target > T::zero() && target < T::one() {
+                    let (lo, hi) = cubic.bracket(&target);
+                    newton
+                        .solve_in(&cdf, &target, cubic.eval(&target), lo, hi)
+                        .x
+                } else if target <= T::zero() && fit.m > 1 {
+                    // At a vertex where the density vanishes dx/dy is
+                    // infinite: x = 0·x_h keeps the value 0 and, over dual
+                    // numbers, carries the infinite derivative of the
+                    // target (y/F_h)^(1/m) instead of a false zero.
+                    target * &fit.xh
                 } else {
-                    newton.invert(&cdf, y).x
+                    newton.invert(&cdf, &target).x
                 }
             }
         }
@@ -461,40 +492,54 @@ impl<T: Real> ProjectedPolygon<T> {
     /// exposed to measure the inversion error (backward error
     /// `|u − F(φ̂)|` with [`ProjectedPolygon::marginal_cdf`], forward error
     /// against a converged inversion). The result lies in
-    /// `[φ₀, φ₀ + 2π)`, φ₀ the azimuth of the first lune.
+    /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
-        let (k, y) = self.select(u);
+        let (k, side, y) = self.select(u);
         let lune = &self.lunes[self.active[k]];
-        let delta = self.invert_marginal(k, &y);
-        lune.start.clone() + &delta
+        let x = self.invert_marginal(k, side, &y);
+        match side {
+            Side::Start => lune.start.clone() + &x,
+            Side::End => lune.end_az.clone() - &x,
+        }
     }
 
-    /// The marginal CDF F(φ) ∈ [0, 1]: the fraction of the projected solid
+    /// The marginal CDF F(φ) ∈ [0, 1): the fraction of the projected solid
     /// angle between the first lune's meridian φ₀ and azimuth `phi`
-    /// (radians, any turn), evaluated in closed form.
+    /// (radians, any turn: φ is reduced into `[φ₀, φ₀ + 2π)`, so that
+    /// F(φ₀ + 2π) = F(φ₀) = 0), evaluated in closed form.
     pub fn marginal_cdf(&self, phi: &T) -> T {
-        let (l, delta) = self.locate_azimuth(phi);
-        let lune = &self.lunes[l];
-        let inside = if lune.active.is_some() {
-            let cdf = LuneCdf {
-                lune,
-                edges: &self.edges,
-            };
-            crate::recipe::Cdf1::cdf(&cdf, &delta) * &lune.area
-        } else {
-            T::zero()
-        };
-        ((lune.cum_start.clone() + &inside) / &self.measure).clamp(&T::zero(), &T::one())
+        let (l, p) = self.locate_azimuth(phi);
+        self.cdf_at(l, &p)
     }
 
-    /// The lune containing azimuth `phi` and the offset δ ∈ [0, Δ] in it.
+    /// F at the reduced azimuth `p` of lune `l`, evaluated from the nearer end.
+    fn cdf_at(&self, l: usize, p: &T) -> T {
+        let lune = &self.lunes[l];
+        let (zero, one) = (T::zero(), T::one());
+        if lune.active.is_none() {
+            return (lune.cum_start.clone() / &self.measure).clamp(&zero, &one);
+        }
+        let x = (p.clone() - &lune.start).clamp(&zero, &lune.width);
+        if x.clone() * &T::from_i64(2) <= lune.width {
+            let f = self.lune_cdf(l, Side::Start).cdf(&x);
+            ((lune.cum_start.clone() + &(f * &lune.area)) / &self.measure).clamp(&zero, &one)
+        } else {
+            let x = (lune.end_az.clone() - p).clamp(&zero, &lune.width);
+            let f = self.lune_cdf(l, Side::End).cdf(&x);
+            (one.clone() - &((lune.cum_after.clone() + &(f * &lune.area)) / &self.measure))
+                .clamp(&zero, &one)
+        }
+    }
+
+    /// The lune containing azimuth `phi` and `phi` reduced into
+    /// `[φ₀, φ₀ + 2π)`.
     fn locate_azimuth(&self, phi: &T) -> (usize, T) {
         let phi0 = &self.lunes[0].start;
         let mut p = phi.clone();
         if !(p >= *phi0 && p < phi0.clone() + &self.two_pi) {
             let turns = ((p.clone() - phi0) / &self.two_pi).floor();
             p -= &(turns * &self.two_pi);
-            if p < *phi0 {
+            if !(p >= *phi0) {
                 p = phi0.clone();
             }
         }
@@ -502,9 +547,21 @@ impl<T: Real> ProjectedPolygon<T> {
             .lunes
             .partition_point(|lune| lune.start <= p)
             .saturating_sub(1);
+        (l, p)
+    }
+
+    /// The side nearer to the reduced azimuth `p` in lune `l`, and the side
+    /// coordinate's `(cos x, sin x)`.
+    fn side_coordinates(&self, l: usize, p: &T) -> (Side, T, T) {
         let lune = &self.lunes[l];
-        let delta = (p - &lune.start).clamp(&T::zero(), &lune.width);
-        (l, delta)
+        let x = p.clone() - &lune.start;
+        let (side, x) = if x.clone() * &T::from_i64(2) <= lune.width {
+            (Side::Start, x)
+        } else {
+            (Side::End, lune.end_az.clone() - p)
+        };
+        let (s, c) = x.clamp(&T::zero(), &lune.width).sin_cos();
+        (side, c, s)
     }
 
     fn local(&self, p: &Vec3<T>) -> Vec3<T> {
@@ -519,14 +576,15 @@ impl<T: Real> ProjectedPolygon<T> {
         if d.z < T::zero() {
             return false;
         }
-        let (l, delta) = self.locate_azimuth(&d.y.atan2(&d.x));
+        let (l, p) = self.locate_azimuth(&d.y.atan2(&d.x));
         let lune = &self.lunes[l];
         if lune.active.is_none() {
             return false;
         }
-        let (s, c) = delta.sin_cos();
+        let (side, c, s) = self.side_coordinates(l, &p);
         let r2 = d.x.square() + &d.y.square();
-        lune.contains(&self.edges, &c, &s, &r2)
+        let z2 = d.z.square();
+        lune.contains(&self.edges, &self.pairs, side, &c, &s, &r2, &z2)
     }
 }
 
@@ -549,13 +607,29 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     type Point = Vec3<T>;
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
-        let (k, y) = self.select(u);
+        let (k, side, y) = self.select(u);
         let lune = &self.lunes[self.active[k]];
-        let delta = self.invert_marginal(k, &y);
-        let (s, c) = delta.sin_cos();
-        let cos_phi = lune.cos_a.clone() * &c - &(lune.sin_a.clone() * &s);
-        let sin_phi = lune.sin_a.clone() * &c + &(lune.cos_a.clone() * &s);
-        let (r2, z2) = lune.sample(&self.edges, &c, &s, &clamp_unit(v));
+        let x = self.invert_marginal(k, side, &y);
+        let (s, c) = x.sin_cos();
+        let (cos_phi, sin_phi) = match side {
+            // φ = a + x.
+            Side::Start => {
+                let (ca, sa) = &lune.cs_a;
+                (
+                    ca.clone() * &c - &(sa.clone() * &s),
+                    sa.clone() * &c + &(ca.clone() * &s),
+                )
+            }
+            // φ = b − x.
+            Side::End => {
+                let (cb, sb) = &lune.cs_b;
+                (
+                    cb.clone() * &c + &(sb.clone() * &s),
+                    sb.clone() * &c - &(cb.clone() * &s),
+                )
+            }
+        };
+        let (r2, z2) = lune.sample(&self.edges, &self.pairs, side, &c, &s, &clamp_unit(v));
         let r = r2.sqrt();
         let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
         match &self.frame {
@@ -587,37 +661,32 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
             return None;
         }
         let d = self.local(p).normalized()?;
-        let (mut l, mut delta) = self.locate_azimuth(&d.y.atan2(&d.x));
+        let (mut l, mut p) = self.locate_azimuth(&d.y.atan2(&d.x));
         if self.lunes[l].active.is_none() {
             // On a meridian bounding the polygon, within rounding: snap to
             // the nearer end of the neighbouring active lunes.
             let m = self.lunes.len();
-            let next = (1..m).map(|i| (l + i) % m).find(|&j| self.lunes[j].active.is_some())?;
+            let next = (1..m)
+                .map(|i| (l + i) % m)
+                .find(|&j| self.lunes[j].active.is_some())?;
             let prev = (1..m)
                 .map(|i| (l + m - i) % m)
                 .find(|&j| self.lunes[j].active.is_some())?;
-            let to_next = self.lunes[l].width.clone() - &delta;
-            let to_prev = delta.clone();
+            let to_next = self.lunes[l].end_az.clone() - &p;
+            let to_prev = p.clone() - &self.lunes[l].start;
             if to_next <= to_prev {
                 l = next;
-                delta = T::zero();
+                p = self.lunes[next].start.clone();
             } else {
                 l = prev;
-                delta = self.lunes[prev].width.clone();
+                p = self.lunes[prev].end_az.clone();
             }
         }
-        let lune = &self.lunes[l];
-        let cdf = LuneCdf {
-            lune,
-            edges: &self.edges,
-        };
-        let f = crate::recipe::Cdf1::cdf(&cdf, &delta);
-        let u = ((lune.cum_start.clone() + &(f * &lune.area)) / &self.measure)
-            .clamp(&T::zero(), &T::one());
-        let (s, c) = delta.sin_cos();
+        let u = self.cdf_at(l, &p);
+        let (side, c, s) = self.side_coordinates(l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.max(&T::zero()).square();
-        let v = lune.conditional_cdf(&self.edges, &c, &s, &r2, &z2);
+        let v = self.lunes[l].conditional_cdf(&self.edges, &self.pairs, side, &c, &s, &r2, &z2);
         Some((u, v))
     }
 

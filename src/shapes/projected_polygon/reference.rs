@@ -246,7 +246,9 @@ impl PlanarLight {
         let mut total = 0.0;
         // Sector edges are breakpoints; the r² bin edges cut the integrand
         // at kinks inside a sector, hence the many panels.
-        let edges: Vec<f64> = (1..nphi).map(|i| 2.0 * PI * i as f64 / nphi as f64).collect();
+        let edges: Vec<f64> = (1..nphi)
+            .map(|i| 2.0 * PI * i as f64 / nphi as f64)
+            .collect();
         self.integrate_phi(&edges, 16, 8, |phi, w, iv| {
             let sector = ((phi / (2.0 * PI) * nphi as f64) as usize).min(nphi - 1);
             for &(a, b) in iv {

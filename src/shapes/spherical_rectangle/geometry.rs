@@ -4,6 +4,7 @@
 //! the origin), scaled by a power of two to be O(1).
 
 use crate::error::WarpError;
+use crate::shapes::turns::positive;
 use crate::real::Real;
 use crate::vector::Vec3;
 
@@ -76,14 +77,14 @@ impl<T: Real> Geometry<T> {
         }
         let one = T::one();
         let lx_world = ex.norm();
-        if !(lx_world > T::zero()) {
+        if !positive(&lx_world) {
             return Err(degenerate("zero-length edge ex"));
         }
         if !lx_world.is_finite() {
             return Err(non_finite("length of edge ex"));
         }
         let ey_len = ey.norm();
-        if !(ey_len > T::zero()) {
+        if !positive(&ey_len) {
             return Err(degenerate("zero-length edge ey"));
         }
         if !ey_len.is_finite() {
@@ -93,7 +94,7 @@ impl<T: Real> Geometry<T> {
         let along = xhat.dot(&ey);
         let cosine = along.clone() / &ey_len;
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
-        if !(cosine.abs() <= tol) {
+        if cosine.is_nan() || cosine.abs() > tol {
             return Err(WarpError::InvalidParameter {
                 name: "ey",
                 expected: "an edge perpendicular to ex (|cos| ≤ 64 units of roundoff)",
@@ -160,7 +161,7 @@ impl<T: Real> Geometry<T> {
     pub fn direction(&self, x: &T, y: &T) -> Vec3<T> {
         let r2 = x.square() + &y.square() + &self.h.square();
         let r = r2.sqrt();
-        if !(r > T::zero()) || !r.is_finite() {
+        if !positive(&r) || !r.is_finite() {
             return self.zhat.neg();
         }
         let inv = T::one() / &r;
@@ -179,7 +180,7 @@ impl<T: Real> Geometry<T> {
             return None;
         }
         let m = w.max_abs();
-        if !(m > T::zero()) {
+        if !positive(&m) {
             return None;
         }
         let w = w.scale(&(T::one() / &m));

@@ -116,7 +116,7 @@ impl<T: Real> Parametrization<T> for SphericalTriangleRecipe<T> {
             return None;
         }
         let q = unit(p)?;
-        let (sh, ch, w) = self.tri.chart_half_angle(&q)?;
+        let (sh, ch, _, w) = self.tri.chart_half_angle(&q)?;
         let two = T::from_i64(2);
         let s = sh.atan2(&ch) * &two / &self.b_arc;
         let cs = self.sub_vertex(&s);

@@ -1,5 +1,6 @@
 use super::*;
 use crate::harness::extremes::{extremes_grid, random_points};
+use SphericalTriangleVariant::{Literal as Lit, Robust as Rob};
 
 fn tri(v: &[Vec3<f64>; 3]) -> Result<SphericalTriangle<f64>, WarpError> {
     SphericalTriangle::new(v[0].clone(), v[1].clone(), v[2].clone())
@@ -18,12 +19,403 @@ fn points() -> Vec<(f64, f64)> {
     p
 }
 
+fn octant() -> SphericalTriangle<f64> {
+    SphericalTriangle::new(
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    )
+    .unwrap()
+}
+
+#[test]
+fn constructor_rejects_bad_input() {
+    let x = Vec3::new(1.0, 0.0, 0.0);
+    let y = Vec3::new(0.0, 1.0, 0.0);
+    let z = Vec3::new(0.0, 0.0, 1.0);
+    let new = |a: &Vec3<f64>, b: &Vec3<f64>, c: &Vec3<f64>| {
+        SphericalTriangle::new(a.clone(), b.clone(), c.clone())
+    };
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let v = Vec3::new(bad, 0.0, 1.0);
+        assert_eq!(
+            new(&v, &y, &z).unwrap_err(),
+            WarpError::NonFinite { what: "vertex A" }
+        );
+        assert_eq!(
+            new(&x, &y, &v).unwrap_err(),
+            WarpError::NonFinite { what: "vertex C" }
+        );
+    }
+    let zero = Vec3::zero();
+    assert_eq!(
+        new(&x, &zero, &z).unwrap_err(),
+        WarpError::Degenerate {
+            what: "zero vertex direction"
+        }
+    );
+    // The same direction twice (also at another length).
+    for b in [x.clone(), x.scale(&3.0)] {
+        assert_eq!(
+            new(&x, &b, &z).unwrap_err(),
+            WarpError::Degenerate {
+                what: "coincident vertices"
+            }
+        );
+    }
+    // Three directions on one great circle; antipodal vertices; a vertex
+    // 1e-17 rad off the great circle of the two others (below the rounding
+    // of the determinant).
+    let on_circle = WarpError::Degenerate {
+        what: "vertices on one great circle (or collinear)",
+    };
+    assert_eq!(
+        new(&x, &y, &Vec3::new(-1.0, 1.0, 0.0)).unwrap_err(),
+        on_circle
+    );
+    assert_eq!(new(&x, &x.neg(), &y).unwrap_err(), on_circle);
+    assert_eq!(
+        new(&x, &Vec3::new(0.0, 1.0, 1e-17), &Vec3::new(-1.0, 0.5, 0.0)).unwrap_err(),
+        on_circle
+    );
+    // ... but 1e-12 rad off it is a valid (nearly hemispherical) triangle,
+    // and so is a triangle of 1e-12 sr.
+    let hemi = new(&x, &Vec3::new(-0.5, 0.8, 1e-12), &Vec3::new(-0.5, -0.8, 1e-12)).unwrap();
+    assert!(2.0 * core::f64::consts::PI - hemi.solid_angle() < 1e-10);
+    let tiny = new(
+        &Vec3::new(1.0, 0.0, 0.0),
+        &Vec3::new(1.0, 1.5e-6, 0.0),
+        &Vec3::new(1.0, 0.0, 1.5e-6),
+    )
+    .unwrap();
+    assert!((tiny.solid_angle() / 1.125e-12 - 1.0).abs() < 1e-5);
+    // Scale-free: vertex vectors of any length give the same triangle.
+    for k in [1e-300, 1e-150, 1.0, 1e150, 1e300] {
+        let t = new(&x.scale(&k), &y.scale(&k), &z.scale(&k)).unwrap();
+        assert_eq!(t.solid_angle(), octant().solid_angle());
+        assert_eq!(t.a(), &x);
+    }
+    // f32 cannot hold a 1e-6 rad sliver: rejected when rebuilt in f32.
+    let (_, sliver) = &hard_triangles()[4];
+    let s = tri(sliver).unwrap();
+    assert!(matches!(s.at::<f32>(), Err(WarpError::Degenerate { .. })));
+}
+
+#[test]
+fn from_points_and_variants() {
+    let o = Vec3::new(1.0, 2.0, 3.0);
+    let t = SphericalTriangle::from_points(
+        Vec3::new(3.0, 2.0, 3.0),
+        Vec3::new(1.0, 5.0, 3.0),
+        Vec3::new(1.0, 2.0, 3.5),
+        o.clone(),
+    )
+    .unwrap();
+    assert_eq!(t.solid_angle(), octant().solid_angle());
+    assert_eq!(t.b(), &Vec3::new(0.0, 1.0, 0.0));
+    assert!(t.is_counter_clockwise());
+    assert_eq!(
+        SphericalTriangle::from_points(o.clone(), o.add(&Vec3::new(1.0, 0.0, 0.0)), Vec3::zero(), o)
+            .unwrap_err(),
+        WarpError::Degenerate {
+            what: "zero vertex direction"
+        }
+    );
+    assert_eq!(t.variant(), Rob);
+    let l = t.clone().with_variant(Lit);
+    assert_eq!(l.variant(), Lit);
+    assert_eq!(l.at::<f32>().unwrap().variant(), Lit);
+    assert_eq!(l.at::<f64>().unwrap().at::<f32>().unwrap().variant(), Lit);
+    assert_eq!(l.name(), "spherical-triangle");
+    assert_eq!(t.name(), "spherical-triangle");
+    assert_eq!("literal".parse::<SphericalTriangleVariant>().unwrap(), Lit);
+    assert_eq!(" Robust ".parse::<SphericalTriangleVariant>().unwrap(), Rob);
+    assert!("exact".parse::<SphericalTriangleVariant>().is_err());
+    assert_eq!(Lit.to_string(), "literal");
+    assert_eq!(SphericalTriangleVariant::default(), Rob);
+    let made = SphericalTriangle::new_with(t.a().clone(), t.b().clone(), t.c().clone(), Lit);
+    assert_eq!(made.unwrap().variant(), Lit);
+    // Both variants sample the same map on an ordinary triangle.
+    for (u, v) in random_points(50, 3) {
+        let d = t.map(&u, &v).sub(&l.map(&u, &v)).norm();
+        assert!(d < 1e-12, "({u}, {v}): {d:e}");
+    }
+}
+
+#[test]
+fn corners_and_edges_are_exact() {
+    for (name, shape) in all_shapes() {
+        let t = tri(&shape).unwrap();
+        for &x in &crate::harness::extremes::EXTREMES {
+            // v = 0 is the vertex B, bit for bit.
+            assert_eq!(t.map(&x, &0.0), *t.b(), "{name}");
+        }
+        // u = 0, v = 1 is A and u = 1, v = 1 is C, up to the final
+        // renormalization (one unit of roundoff).
+        let ur = f64::EPSILON;
+        assert!(t.map(&0.0, &1.0).sub(t.a()).max_abs() <= ur, "{name}");
+        assert!(t.map(&1.0, &1.0).sub(t.c()).max_abs() <= ur, "{name}");
+        // u = 0 is the arc BA, u = 1 the arc BC: in the edge planes.
+        for &v in &[1e-12, 1e-6, 0.5, 1.0 - 1e-6] {
+            let p = t.map(&0.0, &v);
+            assert!(t.n_ab.dot(&p).abs() <= 2.0 * ur, "{name} u=0 v={v}");
+            let q = t.map(&1.0, &v);
+            assert!(t.n_bc.dot(&q).abs() <= 2.0 * ur, "{name} u=1 v={v}");
+        }
+    }
+}
+
+/// No NaN, no infinity and nothing outside the triangle (beyond 4 units of
+/// roundoff, measured on the exact shape) for the robust map in `T`, on the
+/// whole ladder; for the literal map only the counts are returned.
 #[cfg(feature = "mpfr")]
-mod accuracy {
+fn finite_and_inside<T: Real>() -> Vec<(String, usize, usize)> {
+    use crate::real::Mpfr256;
+    let mut literal = Vec::new();
+    let tol = T::unit_roundoff().to_f64() * 4.0;
+    for (name, shape) in all_shapes() {
+        let Ok(t) = tri(&shape).unwrap().at::<T>() else {
+            continue;
+        };
+        let exact = t.at::<Mpfr256>().unwrap();
+        let (mut nan, mut out) = (0, 0);
+        for variant in [Rob, Lit] {
+            let w = t.clone().with_variant(variant);
+            for &(u, v) in &points() {
+                let p = w.map(&T::from_f64(u), &T::from_f64(v));
+                let finite = p.is_finite();
+                let outside = finite && exact.outside_by(&p.convert()).to_f64() > tol;
+                if variant == Rob {
+                    assert!(finite, "{name} ({u}, {v}) in {}: {p:?}", T::type_name());
+                    assert!(!outside, "{name} ({u}, {v}) in {}: outside", T::type_name());
+                } else {
+                    nan += usize::from(!finite);
+                    out += usize::from(outside);
+                }
+            }
+        }
+        literal.push((name, nan, out));
+    }
+    literal
+}
+
+#[cfg(feature = "mpfr")]
+#[test]
+fn robust_is_finite_and_inside_f64_literal_is_not() {
+    let literal = finite_and_inside::<f64>();
+    // The published algorithm produces NaN or leaves the triangle on the
+    // hard ladder (this is what the robust variant is for).
+    let bad: usize = literal.iter().map(|(_, n, o)| n + o).sum();
+    assert!(bad > 100, "{literal:?}");
+}
+
+#[cfg(feature = "mpfr")]
+#[test]
+fn robust_is_finite_and_inside_f32() {
+    finite_and_inside::<f32>();
+}
+
+#[test]
+fn distribution_samples_lie_in_the_triangle() {
+    use rand::SeedableRng;
+    use rand::distr::Distribution;
+    use rand::rngs::Xoshiro256PlusPlus;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
+    for (name, shape) in all_shapes() {
+        let t = tri(&shape).unwrap();
+        for _ in 0..200 {
+            let p: Vec3<f64> = t.sample(&mut rng);
+            assert!(t.outside_by(&p) <= 4.0 * f64::EPSILON, "{name}: {p:?}");
+        }
+        if let Ok(t32) = t.at::<f32>() {
+            for _ in 0..200 {
+                let p: Vec3<f32> = t32.sample(&mut rng);
+                assert!(t32.outside_by(&p) <= 4.0 * f32::EPSILON, "{name}: {p:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn inverse_rejects_points_off_the_triangle() {
+    let t = octant();
+    assert!(t.inverse(&Vec3::new(-1.0, 0.1, 0.1)).is_none());
+    assert!(t.inverse(&Vec3::new(f64::NAN, 0.1, 0.1)).is_none());
+    assert!(t.inverse(&Vec3::zero()).is_none());
+    assert_eq!(t.outside_by(&Vec3::zero()), f64::MAX);
+    // Off the sphere: radial distance; outside an edge: the plane distance.
+    assert!((t.outside_by(&Vec3::new(0.0, 0.0, 2.0)) - 1.0).abs() < 1e-15);
+    let p = Vec3::new(0.6, 0.8, -0.1);
+    assert!((t.outside_by(&p) - 0.1 / p.norm()).abs() < 1e-15);
+    // Antipodal region: far outside.
+    assert!(t.outside_by(&Vec3::new(-1.0, -1.0, -1.0)) > 0.5);
+    // Non-unit points on the ray are accepted (within the tolerance) and
+    // normalized; B itself gives (0, 0).
+    let q = t.map(&0.3, &0.6);
+    let (u, v) = t.inverse(&q.scale(&(1.0 + 1e-9))).unwrap();
+    assert!((u - 0.3).abs() < 1e-14 && (v - 0.6).abs() < 1e-14);
+    assert_eq!(t.inverse(t.b()), Some((0.0, 0.0)));
+    assert!(t.contains(&q) && !t.contains(&Vec3::new(0.0, 0.0, -1.0)));
+}
+
+#[test]
+fn pdf_is_the_reciprocal_solid_angle() {
+    for (name, shape) in all_shapes() {
+        let t = tri(&shape).unwrap();
+        for variant in [Rob, Lit] {
+            let w = t.clone().with_variant(variant);
+            let p = w.map(&0.3, &0.7);
+            // The density of the returned direction, for both variants, is the
+            // standalone 1/Ω of the Van Oosterom–Strackee solid angle.
+            assert_eq!(w.pdf(&p), 1.0 / t.solid_angle(), "{name}");
+            assert_eq!(w.measure(), *t.solid_angle(), "{name}");
+        }
+    }
+    assert!((octant().solid_angle() - core::f64::consts::FRAC_PI_2).abs() <= 2e-16);
+}
+
+#[cfg(feature = "mpfr")]
+mod mpfr {
     use super::*;
+    use crate::harness::jacobian::check_jacobian;
     use crate::harness::sensitivity::{InputFormat, accuracy_bound, sensitivities_in};
     use crate::real::{Mpfr256, convert};
+    use crate::recipe::{ClosedForm, RecipeWarp};
     use crate::vector::Coords;
+
+    type M = Mpfr256;
+
+    #[test]
+    fn solid_angle_matches_girard_at_256_bits() {
+        for (name, shape) in all_shapes() {
+            let t = tri(&shape).unwrap();
+            let exact = t.at::<M>().unwrap();
+            let girard = literal::girard(exact.a(), exact.b(), exact.c());
+            // Van Oosterom–Strackee and Girard agree at 256 bits (Girard
+            // loses log₂(1/Ω) + a few bits to cancellation, far above 2^-200).
+            let rel = ((exact.solid_angle().clone() - &girard) / &girard).abs();
+            assert!(rel < M::exp2i(-180), "{name}: {rel}");
+            // The f64 Ω is within a few units of roundoff of the exact solid
+            // angle of the same (f64) vertices, or within its condition
+            // κ_Ω (relative move of the exact Ω under a one-ulp change of a
+            // vertex coordinate: u/dist(O, plane ABC) for vertices near a
+            // great circle).
+            let mut kappa = M::zero();
+            let c = [exact.a(), exact.b(), exact.c()].map(|v| v.to_array());
+            for i in 0..9 {
+                for step in [f64::next_up, f64::next_down] {
+                    let mut k = c.clone();
+                    k[i / 3][i % 3] = M::from_f64(step(k[i / 3][i % 3].to_f64()));
+                    let v = |j: usize| Vec3::new(k[j][0].clone(), k[j][1].clone(), k[j][2].clone());
+                    let o = SphericalTriangle::new(v(0), v(1), v(2)).unwrap();
+                    let rel = ((o.solid_angle().clone() - exact.solid_angle()) / exact.solid_angle()).abs();
+                    kappa = kappa.max(&rel);
+                }
+            }
+            let rel64 = (t.solid_angle() / exact.solid_angle().to_f64() - 1.0).abs();
+            let bound = 16.0 * (f64::EPSILON / 2.0).max(kappa.to_f64());
+            assert!(rel64 <= bound, "{name}: {rel64:e} > {bound:e}");
+        }
+    }
+
+    /// u, v ∈ {0, 2^-60, 1/3, 1/2, 1 − 2^-40, 1} (exact at 256 bits).
+    fn grid() -> Vec<M> {
+        let one = M::one();
+        vec![
+            M::zero(),
+            M::exp2i(-60),
+            M::from_ratio(1, 3),
+            M::from_ratio(1, 2),
+            one.clone() - &M::exp2i(-40),
+            one,
+        ]
+    }
+
+    #[test]
+    fn recipe_matches_robust_map_at_256_bits() {
+        let tol = M::exp2i(-200);
+        for (name, shape) in all_shapes() {
+            let t = tri(&shape).unwrap().at::<M>().unwrap();
+            let spec = RecipeWarp::new(t.recipe(), ClosedForm, ClosedForm);
+            assert_eq!(spec.name(), "recipe:spherical-triangle");
+            for u in grid() {
+                for v in grid() {
+                    let p = t.map(&u, &v);
+                    let q = spec.map(&u, &v);
+                    let d = p.sub(&q).max_abs();
+                    assert!(d <= tol, "{name} ({u}, {v}): {d}");
+                }
+            }
+            // The composed inverse (chart + F, G) agrees with the direct one
+            // at interior points.
+            for (u, v) in [(M::from_ratio(1, 3), M::from_ratio(2, 3)), (M::from_ratio(3, 4), M::from_ratio(1, 5))] {
+                let p = t.map(&u, &v);
+                let (u1, v1) = t.inverse_robust(&p).unwrap();
+                let (u2, v2) = spec.inverse(&p).unwrap();
+                assert!((u1.clone() - &u).abs() <= tol && (u2 - &u).abs() <= tol, "{name}");
+                assert!((v1 - &v).abs() <= tol && (v2 - &v).abs() <= tol, "{name}");
+            }
+        }
+    }
+
+    #[test]
+    fn recipe_steps_are_consistent() {
+        use crate::recipe::{AreaDensity, MarginalConditional, Parametrization};
+        let tol = M::exp2i(-230);
+        for (name, shape) in ordinary_triangles().into_iter().chain(hard_triangles().into_iter().step_by(3)) {
+            let r = tri(&shape).unwrap().at::<M>().unwrap().recipe();
+            let m = r.measure();
+            assert_eq!(r.marginal_cdf(&M::zero()), M::zero());
+            assert!((r.marginal_cdf(&M::one()) - &M::one()).abs() <= tol, "{name}");
+            for s in [M::from_ratio(1, 7), M::from_ratio(1, 2), M::from_ratio(9, 10)] {
+                for tt in [M::from_ratio(1, 5), M::from_ratio(2, 3)] {
+                    // σ's closed form equals ‖φ_s × φ_t‖ from dual numbers.
+                    let [_, ps, pt] = r.partials(&s, &tt);
+                    let sigma = ps.cross(&pt).norm();
+                    let rel = ((sigma.clone() - &r.sigma(&s, &tt)) / &sigma).abs();
+                    assert!(rel <= M::exp2i(-200), "{name}: σ {rel}");
+                    // G_s(G_s⁻¹(v)) = v, F(F⁻¹(u)) = u.
+                    let g = r.conditional_cdf(&s, &tt);
+                    let back = r.conditional_inverse(&s, &g).unwrap();
+                    assert!((back - &tt).abs() <= tol, "{name}: G");
+                }
+                let f = r.marginal_cdf(&s);
+                let back = r.marginal_inverse(&f).unwrap();
+                assert!((back - &s).abs() <= M::exp2i(-200), "{name}: F");
+                // F'(s) = ∫₀¹ σ(s, t) dt / Ω (Gauss–Legendre, 3 nodes, on a
+                // smooth integrand: a loose check of the closed form).
+                let h = M::from_ratio(1, 2);
+                let x = (M::from_ratio(3, 5)).sqrt() * &h;
+                let int = (r.sigma(&s, &(h.clone() - &x)) * &M::from_ratio(5, 18))
+                    + &(r.sigma(&s, &h) * &M::from_ratio(8, 18))
+                    + &(r.sigma(&s, &(h.clone() + &x)) * &M::from_ratio(5, 18));
+                let rel = ((int / &m - &r.marginal_pdf(&s)) / &r.marginal_pdf(&s)).abs();
+                assert!(rel.to_f64() < 1e-2, "{name}: F' {rel}");
+                // F' by a central difference of F.
+                let e = M::exp2i(-100);
+                let fd = (r.marginal_cdf(&(s.clone() + &e)) - &r.marginal_cdf(&(s.clone() - &e)))
+                    / &(e * &M::from_i64(2));
+                let rel = ((fd - &r.marginal_pdf(&s)) / &r.marginal_pdf(&s)).abs();
+                assert!(rel.to_f64() < 1e-30, "{name}: F' {rel}");
+                assert!((r.conditional_cdf(&s, &M::one()) - &M::one()).abs() <= tol);
+            }
+            // The chart inverts φ.
+            let (s, tt) = (M::from_ratio(2, 5), M::from_ratio(3, 7));
+            let (s2, t2) = r.chart(&r.phi(&s, &tt)).unwrap();
+            assert!((s2 - &s).abs() <= M::exp2i(-200) && (t2 - &tt).abs() <= M::exp2i(-200), "{name}");
+        }
+    }
+
+    #[test]
+    fn jacobian_is_constant_at_256_bits() {
+        for (name, shape) in all_shapes() {
+            let t = tri(&shape).unwrap();
+            let r = check_jacobian(&t, &extremes_grid()).unwrap();
+            assert!(r.passes(1e-60), "{name}: {r:?}");
+            // Only v = 0 (the whole edge maps to B, √v) is singular.
+            assert_eq!(r.nudged, 8, "{name}: {r:?}");
+        }
+    }
 
     /// Per-shape accuracy figures of one variant in one format.
     #[derive(Clone, Debug, Default)]
@@ -48,36 +440,28 @@ mod accuracy {
             .collect()
     }
 
-    fn build(p: &[Mpfr256]) -> Result<SphericalTriangle<Mpfr256>, WarpError> {
+    fn build(p: &[M]) -> Result<SphericalTriangle<M>, WarpError> {
         let v = |i: usize| Vec3::new(p[i].clone(), p[i + 1].clone(), p[i + 2].clone());
         SphericalTriangle::new(v(0), v(3), v(6))
     }
 
-    /// Measures both variants of `shape` in `T` against the 256-bit map of
-    /// the shape as `T` sees it; `None` if `T` rejects the shape.
-    pub(super) fn measure<T: Real>(
-        shape: &[Vec3<f64>; 3],
-        points: &[(f64, f64)],
-    ) -> Option<[Figures; 2]> {
+    /// Measures both variants (robust, literal) of `shape` in `T` against
+    /// the 256-bit map of the shape as `T` sees it, with κ from one-ulp
+    /// perturbations of the 9 vertex coordinates (as stored in `T`), u and v;
+    /// `None` if `T` rejects the shape.
+    pub(super) fn measure<T: Real>(shape: &[Vec3<f64>; 3], points: &[(f64, f64)]) -> Option<[Figures; 2]> {
         let format = if T::precision() == 24 {
             InputFormat::F32
         } else {
             InputFormat::F64
         };
         let w: SphericalTriangle<T> = tri(shape).ok()?.at::<T>().ok()?;
-        let reference = w.at::<Mpfr256>().ok()?;
-        let params = coords(&w);
-        let kappas = sensitivities_in::<Mpfr256, _, _>(build, &params, points, format)
-            .expect("sensitivity");
+        let reference = w.at::<M>().ok()?;
+        let kappas =
+            sensitivities_in::<M, _, _>(build, &coords(&w), points, format).expect("sensitivity");
         let ut = T::unit_roundoff().to_f64();
         let mut out = [Figures::default(), Figures::default()];
-        for (k, variant) in [
-            SphericalTriangleVariant::Robust,
-            SphericalTriangleVariant::Literal,
-        ]
-        .into_iter()
-        .enumerate()
-        {
+        for (k, variant) in [Rob, Lit].into_iter().enumerate() {
             let wv = w.clone().with_variant(variant);
             let f = &mut out[k];
             for (i, &(u, v)) in points.iter().enumerate() {
@@ -88,7 +472,7 @@ mod accuracy {
                     continue;
                 }
                 let q = reference.map(&convert(&u_t), &convert(&v_t));
-                let pr: Vec3<Mpfr256> = p.convert();
+                let pr: Vec3<M> = p.convert();
                 let err = pr.sub(&q).max_abs().to_f64();
                 let bound = accuracy_bound(kappas[i].kappa, format);
                 if err / bound > f.ratio {
@@ -107,16 +491,211 @@ mod accuracy {
         Some(out)
     }
 
+    fn robust_within_kappa_bound<T: Real>() {
+        let pts = points();
+        for (name, shape) in all_shapes() {
+            let Some([r, _]) = measure::<T>(&shape, &pts) else {
+                continue;
+            };
+            assert!(
+                r.ratio <= 1.0 && r.nan == 0 && r.outside == 0,
+                "{name} in {}: {r:?}",
+                T::type_name()
+            );
+        }
+    }
+
     #[test]
-    #[ignore = "report: prints the accuracy table of both variants (a few seconds)"]
+    fn robust_f64_error_within_16_kappa() {
+        robust_within_kappa_bound::<f64>();
+    }
+
+    #[test]
+    fn robust_f32_error_within_16_kappa() {
+        robust_within_kappa_bound::<f32>();
+    }
+
+    /// The exact inverse's sensitivity to rounding the direction to f64:
+    /// the largest move of the 256-bit inverse, from `(u, v)`, over the
+    /// rounded point and its one-ulp neighbours in each coordinate.
+    pub(super) fn inverse_floor(exact: &SphericalTriangle<M>, p: &Vec3<f64>, u: f64, v: f64) -> f64 {
+        let inv = |q: &Vec3<f64>| {
+            let q: Vec3<M> = q.convert();
+            exact.inverse_robust(&super::unit(&q).unwrap()).unwrap()
+        };
+        let (u0, v0) = (M::from_f64(u), M::from_f64(v));
+        let mut worst = M::zero();
+        let arr = p.to_array();
+        for i in 0..4 {
+            for step in [f64::next_up, f64::next_down] {
+                let mut c = arr;
+                if i < 3 {
+                    c[i] = step(c[i]);
+                }
+                let (a, b) = inv(&Vec3::new(c[0], c[1], c[2]));
+                worst = worst.max(&(a - &u0).abs()).max(&(b - &v0).abs());
+            }
+        }
+        worst.to_f64()
+    }
+
+    /// Round trip in f64: worst |(u, v) − ψ⁻¹(ψ(u, v))| and the same
+    /// divided by max(2^-53, floor), over points with v ≥ `v_min`.
+    pub(super) fn roundtrip(shape: &[Vec3<f64>; 3], variant: SphericalTriangleVariant, v_min: f64) -> (f64, (f64, f64), f64, usize) {
+        let t = tri(shape).unwrap().with_variant(variant);
+        let exact = t.at::<M>().unwrap();
+        let (mut worst, mut at, mut ratio, mut fails) = (0.0f64, (0.0, 0.0), 0.0f64, 0);
+        for &(u, v) in points().iter().filter(|p| p.1 >= v_min) {
+            let p = t.map(&u, &v);
+            match t.inverse(&p) {
+                Some((u2, v2)) if u2.is_finite() && v2.is_finite() && p.is_finite() => {
+                    let e = (u - u2).abs().max((v - v2).abs());
+                    if e > worst {
+                        worst = e;
+                        at = (u, v);
+                    }
+                    let floor = inverse_floor(&exact, &p, u, v).max(f64::EPSILON / 2.0);
+                    ratio = ratio.max(e / floor);
+                }
+                _ => fails += 1,
+            }
+        }
+        (worst, at, ratio, fails)
+    }
+
+    #[test]
+    fn robust_inverse_round_trip_f64() {
+        for (name, shape) in all_shapes() {
+            let (worst, at, ratio, fails) = roundtrip(&shape, Rob, 0.0);
+            assert_eq!(fails, 0, "{name}");
+            // Within a few times the inherent floor (the exact inverse's move
+            // under rounding the direction to f64) everywhere except on the
+            // edge v = 0 (all of it maps to B), and v = 2^-60 next to it.
+            let (_, _, ratio_away, _) = roundtrip(&shape, Rob, 1e-12);
+            assert!(ratio_away <= 16.0, "{name}: {ratio_away} (worst {worst:e} at {at:?}, {ratio})");
+        }
+        // 1e-12 absolute where the floor allows it: the ordinary triangles,
+        // 1e-2 sr and 2π − 1e-2 sr, away from the edge v = 0. (The thin and
+        // tiny shapes, and the nearly hemispherical ones near their
+        // degenerate corners, have floors above 1e-12: a direction rounded to
+        // f64 does not determine (u, v) better; the first loop holds them to
+        // 16× their floor.)
+        for (name, shape) in all_shapes() {
+            let ok = ["octant", "generic", "clockwise", "large obtuse", "area 1e-2", "hemi 2pi-1e-2"];
+            if ok.contains(&name.as_str()) {
+                let (worst, at, _, _) = roundtrip(&shape, Rob, 1e-6);
+                assert!(worst <= 1e-12, "{name}: {worst:e} at {at:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn chi_square_both_variants() {
+        use crate::harness::chi2::{Binning, run_chi_square};
+
+        /// The spherical triangle cut into n² cells: the central projections
+        /// of the n² congruent sub-triangles of the planar triangle ABC
+        /// (barycentric lattice), each of probability Ω_cell/Ω with Ω_cell by
+        /// the robust Van Oosterom–Strackee formula. Independent of the map.
+        struct Lattice {
+            t: SphericalTriangle<f64>,
+            n: usize,
+            prob: Vec<f64>,
+        }
+        impl Lattice {
+            fn node(t: &SphericalTriangle<f64>, n: usize, i: usize, j: usize) -> Vec3<f64> {
+                let (b, c) = (i as f64 / n as f64, j as f64 / n as f64);
+                t.a().scale(&(1.0 - b - c)).add(&t.b().scale(&b)).add(&t.c().scale(&c))
+            }
+            fn new(t: SphericalTriangle<f64>, n: usize) -> Self {
+                let mut prob = vec![0.0; 2 * n * n];
+                for i in 0..n {
+                    for j in 0..n - i {
+                        let node = |a, b| Self::node(&t, n, a, b);
+                        let up = SphericalTriangle::new(node(i, j), node(i + 1, j), node(i, j + 1)).unwrap();
+                        prob[2 * (i * n + j)] = up.solid_angle() / t.solid_angle();
+                        if i + j + 1 < n {
+                            let down = SphericalTriangle::new(node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)).unwrap();
+                            prob[2 * (i * n + j) + 1] = down.solid_angle() / t.solid_angle();
+                        }
+                    }
+                }
+                let total: f64 = prob.iter().sum();
+                assert!((total - 1.0).abs() < 1e-12, "{total}");
+                Lattice { t, n, prob }
+            }
+        }
+        impl Binning for Lattice {
+            fn n_bins(&self) -> usize {
+                self.prob.len()
+            }
+            fn bin(&self, p: &Vec3<f64>) -> Option<usize> {
+                if self.t.outside_by(p) > 1e-9 {
+                    return None;
+                }
+                let (a, b, c) = (self.t.a(), self.t.b(), self.t.c());
+                let det = |x: &Vec3<f64>, y: &Vec3<f64>, z: &Vec3<f64>| x.dot(&y.cross(z));
+                let d = det(a, b, c);
+                let (lb, lc) = (det(a, p, c) / d, det(a, b, p) / d);
+                let la = det(p, b, c) / d;
+                let s = la + lb + lc;
+                let n = self.n as f64;
+                let (x, y) = ((lb / s).max(0.0) * n, (lc / s).max(0.0) * n);
+                let i = (x as usize).min(self.n - 1);
+                let j = (y as usize).min(self.n - 1 - i);
+                let up = (x - i as f64) + (y - j as f64) <= 1.0 || i + j + 1 >= self.n;
+                Some(2 * (i * self.n + j) + usize::from(!up))
+            }
+            fn probability(&self, i: usize) -> f64 {
+                self.prob[i]
+            }
+        }
+
+        let shapes = ordinary_triangles();
+        let tests = (2 * shapes.len() + 1) as u32;
+        for (name, shape) in &shapes {
+            let t = tri(shape).unwrap();
+            let bins = Lattice::new(t.clone(), 8);
+            for (k, variant) in [Rob, Lit].into_iter().enumerate() {
+                let out = run_chi_square(&t.clone().with_variant(variant), &bins, 100_000, 11 + k as u64, 0.01, tests);
+                assert!(out.passed, "{name} {variant}: {out:?}");
+            }
+        }
+        // A map with the wrong marginal (u² instead of u) is rejected.
+        #[derive(Clone)]
+        struct Skewed(SphericalTriangle<f64>);
+        impl Warp<f64> for Skewed {
+            type Point = Vec3<f64>;
+            fn map(&self, u: &f64, v: &f64) -> Vec3<f64> {
+                self.0.map(&(u * u), v)
+            }
+            fn pdf(&self, p: &Vec3<f64>) -> f64 {
+                self.0.pdf(p)
+            }
+            fn measure(&self) -> f64 {
+                self.0.measure()
+            }
+            fn inverse(&self, _: &Vec3<f64>) -> Option<(f64, f64)> {
+                None
+            }
+            fn outside_by(&self, p: &Vec3<f64>) -> f64 {
+                self.0.outside_by(p)
+            }
+        }
+        let t = tri(&shapes[1].1).unwrap();
+        let out = run_chi_square(&Skewed(t.clone()), &Lattice::new(t, 8), 100_000, 5, 0.01, tests);
+        assert!(!out.passed);
+    }
+
+    #[test]
+    #[ignore = "report: prints the accuracy tables of both variants (a few seconds)"]
     fn report_accuracy_table() {
         let pts = points();
         for (prec, name) in [(53, "f64"), (24, "f32")] {
-            println!("\n== {name} ==");
+            println!("\n== {name}: error / (16·max(u, κ)), max error, κ at the worst point, NaN, outside (> 4u), max outside / u ==");
             println!(
-                "{:<16} {:>10} | {:>9} {:>9} {:>9} {:>4} {:>4} {:>6} | {:>9} {:>9} {:>4} {:>4}",
-                "shape", "omega", "R err/bd", "R maxerr", "kappa", "NaN", "out", "outmx",
-                "L err/bd", "L maxerr", "NaN", "out"
+                "{:<14} {:>10} | {:>9} {:>9} {:>9} {:>4} {:>4} {:>6} | {:>9} {:>9} {:>4} {:>4}",
+                "shape", "omega", "R err/bd", "R maxerr", "kappa", "NaN", "out", "out/u", "L err/bd", "L maxerr", "NaN", "out"
             );
             for (label, shape) in all_shapes() {
                 let omega = tri(&shape).map(|t| *t.solid_angle()).unwrap_or(f64::NAN);
@@ -126,59 +705,108 @@ mod accuracy {
                     measure::<f32>(&shape, &pts)
                 };
                 match m {
-                    None => println!("{label:<16} {omega:>10.3e} | rejected in {name}"),
+                    None => println!("{label:<14} {omega:>10.3e} | rejected in {name}"),
                     Some([r, l]) => println!(
-                        "{label:<16} {omega:>10.3e} | {:>9.3e} {:>9.2e} {:>9.2e} {:>4} {:>4} {:>6.2} | {:>9.3e} {:>9.2e} {:>4} {:>4}   worst R {:?}",
-                        r.ratio, r.max_err, r.kappa, r.nan, r.outside, r.max_outside_ulps,
-                        l.ratio, l.max_err, l.nan, l.outside, r.worst
+                        "{label:<14} {omega:>10.3e} | {:>9.3e} {:>9.2e} {:>9.2e} {:>4} {:>4} {:>6.2} | {:>9.2e} {:>9.2e} {:>4} {:>4}",
+                        r.ratio, r.max_err, r.kappa, r.nan, r.outside, r.max_outside_ulps, l.ratio, l.max_err, l.nan, l.outside
                     ),
                 }
             }
         }
-    }
-}
-
-
-#[test]
-#[ignore = "report"]
-fn report_roundtrip() {
-    for (label, shape) in all_shapes() {
-        let w = tri(&shape).unwrap();
-        for variant in [SphericalTriangleVariant::Robust, SphericalTriangleVariant::Literal] {
-            let w = w.clone().with_variant(variant);
-            let (mut worst, mut at, mut worst_away, mut at_away, mut fails) = (0.0f64, (0.0, 0.0), 0.0f64, (0.0, 0.0), 0);
-            for &(u, v) in &points() {
-                let p = w.map(&u, &v);
-                match w.inverse(&p) {
-                    Some((u2, v2)) if u2.is_finite() && v2.is_finite() => {
-                        let e = (u - u2).abs().max((v - v2).abs());
-                        if e > worst { worst = e; at = (u, v); }
-                        if v >= 1e-6 && e > worst_away { worst_away = e; at_away = (u, v); }
-                    }
-                    _ => fails += 1,
-                }
+        println!("\n== f64 round trip: worst |Δ| over all points (at), worst / inherent floor, failures; then v ≥ 1e-6 ==");
+        for (label, shape) in all_shapes() {
+            for variant in [Rob, Lit] {
+                let (w, at, ratio, fails) = roundtrip(&shape, variant, 0.0);
+                let (w6, at6, _, _) = roundtrip(&shape, variant, 1e-6);
+                println!("{label:<14} {variant:<7} all: {w:>9.2e} at {at:?} ratio {ratio:>9.2e} fails {fails:>2} | v≥1e-6: {w6:>9.2e} at {at6:?}");
             }
-            println!("{label:<16} {variant:<8} worst {worst:.2e} at {at:?}  v>=1e-6: {worst_away:.2e} at {at_away:?} fails {fails}");
+        }
+        println!("\n== Jacobian at 256 bits (robust, extremes grid) ==");
+        for (label, shape) in all_shapes() {
+            let r = check_jacobian(&tri(&shape).unwrap(), &extremes_grid()).unwrap();
+            println!("{label:<14} max |J·pdf − 1| = {:.2e} (nudged {}, non-finite {})", r.max_rel_deviation, r.nudged, r.non_finite);
         }
     }
 }
 
-#[cfg(feature = "mpfr")]
+mod props {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+        #[test]
+        fn random_triangles_f64(
+            a in prop::array::uniform3(-1.0f64..1.0),
+            b in prop::array::uniform3(-1.0f64..1.0),
+            c in prop::array::uniform3(-1.0f64..1.0),
+            u in 0.0f64..=1.0,
+            v in 0.0f64..=1.0,
+        ) {
+            let t = match SphericalTriangle::new(
+                Vec3::new(a[0], a[1], a[2]), Vec3::new(b[0], b[1], b[2]), Vec3::new(c[0], c[1], c[2])) {
+                Ok(t) => t,
+                Err(e) => {
+                    prop_assert!(matches!(e, WarpError::Degenerate { .. }), "unexpected {:?}", e);
+                    return Err(TestCaseError::reject("degenerate"));
+                }
+            };
+            prop_assume!(*t.solid_angle() > 1e-6);
+            let p = t.map(&u, &v);
+            prop_assert!(p.is_finite());
+            prop_assert!(t.outside_by(&p) <= 4.0 * f64::EPSILON, "outside by {:e}", t.outside_by(&p));
+            let (u2, v2) = t.inverse(&p).expect("on the triangle");
+            // Weighted by the local scale: √v·|Δu| and |Δv| (v = 0 is B).
+            prop_assert!(v.sqrt() * (u - u2).abs() <= 1e-9, "u {} -> {}", u, u2);
+            prop_assert!((v - v2).abs() <= 1e-9, "v {} -> {}", v, v2);
+            prop_assert!((t.pdf(&p) * t.measure() - 1.0).abs() <= 2.0 * f64::EPSILON);
+        }
+    }
+}
+
+
 #[test]
-#[ignore = "debug"]
-fn debug_inverse() {
-    use crate::real::Mpfr256;
-    let (_, shape) = all_shapes().into_iter().find(|(n, _)| n == "hemi 2pi-1e-6").unwrap();
-    let w = tri(&shape).unwrap();
-    let r = w.at::<Mpfr256>().unwrap();
-    for (u, v) in [(0.5, 1.0), (0.5, 0.999999), (0.5, 0.5), (0.45, 1.0), (0.3, 1.0)] {
-        let p = w.map(&u, &v);
-        let inv = w.inverse(&p).unwrap();
-        let pr: Vec3<Mpfr256> = p.convert();
-        let invr = r.inverse(&pr).unwrap();
-        let exact = r.map(&Mpfr256::from_f64(u), &Mpfr256::from_f64(v));
-        let invx = r.inverse(&exact).unwrap();
-        println!("({u},{v}): f64 inv {inv:?}  256-inv of f64 point ({:.17}, {:.17})  256 inv of exact ({:.17},{:.17}) |E|={:e}",
-            invr.0.to_f64(), invr.1.to_f64(), invx.0.to_f64(), invx.1.to_f64(), p.add(&w.b).norm());
+#[ignore = "timing: per-sample cost of both variants (use criterion for real figures)"]
+fn timing_robust_vs_literal() {
+    use std::hint::black_box;
+    use std::time::Instant;
+    fn run<T: Real + Copy>(t: &SphericalTriangle<T>, pts: &[(T, T)]) -> f64 {
+        let start = Instant::now();
+        let mut acc = T::zero();
+        for (u, v) in pts {
+            acc += t.map(black_box(u), black_box(v)).x;
+        }
+        black_box(acc);
+        start.elapsed().as_secs_f64() * 1e9 / pts.len() as f64
+    }
+    let pts64 = random_points(20_000, 9);
+    let pts32: Vec<(f32, f32)> = pts64.iter().map(|&(u, v)| (u as f32, v as f32)).collect();
+    for (name, shape) in ordinary_triangles() {
+        let t = tri(&shape).unwrap();
+        let l = t.clone().with_variant(Lit);
+        let t32 = t.at::<f32>().unwrap();
+        let l32 = t32.clone().with_variant(Lit);
+        let mut best = [f64::MAX; 4];
+        for _ in 0..40 {
+            best[0] = best[0].min(run(&t, &pts64));
+            best[1] = best[1].min(run(&l, &pts64));
+            best[2] = best[2].min(run(&t32, &pts32));
+            best[3] = best[3].min(run(&l32, &pts32));
+        }
+        let lo: Vec<(f64, f64)> = pts64.iter().map(|&(u, v)| (u, v * 0.5)).collect();
+        let hi: Vec<(f64, f64)> = pts64.iter().map(|&(u, v)| (u, 0.5 + v * 0.5)).collect();
+        let mut sorted = pts64.clone();
+        sorted.sort_by(|a, b| (a.0 > 0.5, a.1 > 0.5).cmp(&(b.0 > 0.5, b.1 > 0.5)));
+        let (mut blo, mut bhi, mut bs) = (f64::MAX, f64::MAX, f64::MAX);
+        for _ in 0..40 {
+            blo = blo.min(run(&t, &lo));
+            bhi = bhi.min(run(&t, &hi));
+            bs = bs.min(run(&t, &sorted));
+        }
+        println!("   v<=1/2 {blo:.1} ns, v>1/2 {bhi:.1} ns, sorted (predictable branches) {bs:.1} ns");
+        println!(
+            "{name:<14} f64 robust {:.1} ns literal {:.1} ns ratio {:.2} | f32 robust {:.1} ns literal {:.1} ns ratio {:.2}",
+            best[0], best[1], best[0] / best[1], best[2], best[3], best[2] / best[3]
+        );
     }
 }

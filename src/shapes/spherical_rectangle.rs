@@ -1,0 +1,581 @@
+//! Uniform sampling of the solid angle of a planar rectangle seen from a
+//! point: Ureña, Fajardo and King (2013), *An area-preserving parametrization
+//! for spherical rectangles*. Derivation, numerical reformulations and
+//! measured accuracy: `docs/spherical-rectangle.md`.
+//!
+//! Two evaluations of the same map share one type, selected by
+//! [`SphericalRectangleVariant`]: [`Literal`](SphericalRectangleVariant::Literal),
+//! the published algorithm transcribed as printed, and the default
+//! [`Robust`](SphericalRectangleVariant::Robust), reformulated so that every
+//! step is as accurate as the data allow.
+
+mod geometry;
+mod ladder;
+mod literal;
+mod recipe;
+mod robust;
+#[cfg(test)]
+mod tests;
+
+pub use ladder::{hard_rectangles, ordinary_rectangles};
+pub use recipe::SphericalRectangleRecipe;
+
+use super::turns::clamp_unit;
+use crate::error::WarpError;
+use crate::shapes::turns::positive;
+use crate::real::Real;
+use crate::vector::Vec3;
+use crate::warp::{Warp, WarpFamily};
+use geometry::Geometry;
+use literal::Literal;
+use robust::Robust;
+
+/// Which evaluation of the Ureña–Fajardo–King map a [`SphericalRectangle`]
+/// uses. Both compute the same map M(u, v); they differ only in arithmetic.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum SphericalRectangleVariant {
+    /// The reference algorithm of the paper (Appendix B) as published: Ω as
+    /// Girard's sum of the four internal angles (`acos` of edge-normal dot
+    /// products) minus 2π, `c_u = ±1/√(f² + b₀²)` from the angle
+    /// `uS + k`, `x_u = −c_u z₀/√(1 − c_u²)`, `y_v = h_v d/√(1 − h_v²)`, with
+    /// the paper's clamps and its cut-off `h_v² ≥ 1 − ε ⇒ y_v = y₁`
+    /// (`ε = 10⁻⁶`). The baseline to compare against: it puts every sample
+    /// on one edge when the observer grazes the plane (Σγ − 2π cancels to 0)
+    /// and loses digits near the edges of the square and for small or
+    /// distant rectangles.
+    Literal,
+    /// The same map evaluated without cancellation (the default): Ω and the
+    /// sub-rectangle solid angles from `ω(x) = x(ℓ₀ + ℓ₁)/(r₀ℓ₁ + r₁ℓ₀)` and
+    /// half-angle sines, `x_u` in closed form from sines of half angles
+    /// anchored at the nearer end of `[x₀, x₁]`, `y_v` from differences of
+    /// `h` written as products, `1 − h_v²` as a sum of positive terms.
+    #[default]
+    Robust,
+}
+
+impl SphericalRectangleVariant {
+    /// `"literal"` or `"robust"`.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            SphericalRectangleVariant::Literal => "literal",
+            SphericalRectangleVariant::Robust => "robust",
+        }
+    }
+}
+
+impl core::fmt::Display for SphericalRectangleVariant {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl core::str::FromStr for SphericalRectangleVariant {
+    type Err = WarpError;
+    /// Parses `literal` or `robust` (ASCII case-insensitive).
+    fn from_str(s: &str) -> Result<Self, WarpError> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "literal" => Ok(SphericalRectangleVariant::Literal),
+            "robust" => Ok(SphericalRectangleVariant::Robust),
+            _ => Err(WarpError::InvalidParameter {
+                name: "variant",
+                expected: "literal or robust",
+            }),
+        }
+    }
+}
+
+/// One sample of a [`SphericalRectangle`]: the point on the rectangle, the
+/// unit direction to it from the observer and both densities.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RectangleSample<T> {
+    /// The point `s + ξ e_x + η e_y` on the rectangle.
+    pub point: Vec3<T>,
+    /// The unit direction from the observer towards the point.
+    pub direction: Vec3<T>,
+    /// Density in solid angle: `1/Ω`.
+    pub pdf: T,
+    /// Density in area on the rectangle: `cos θ_p / (Ω r²)`, with `r` the
+    /// distance from the observer and `θ_p` the angle between the direction
+    /// and the rectangle's normal.
+    pub pdf_area: T,
+}
+
+/// `x` clamped to `[0, 1]`, NaN kept.
+fn clamp01<T: Real>(x: &T) -> T {
+    if x.is_nan() {
+        x.clone()
+    } else {
+        x.clamp(&T::zero(), &T::one())
+    }
+}
+
+/// How far off the shape a direction may lie for `inverse` and `pdf` to
+/// accept it: `2^(−p/2)` (sine of the angle) for a `p`-bit type.
+fn on_shape_tolerance<T: Real>() -> T {
+    T::exp2i(-((T::precision() / 2) as i32))
+}
+
+/// Uniform directions (in solid angle) towards a planar rectangle, seen from
+/// an observer: the map M(u, v) of Ureña, Fajardo and King (2013).
+///
+/// The rectangle has the corner `s` and the perpendicular edges `e_x`,
+/// `e_y`; the observer is `o`. In the frame `x̂ = e_x/|e_x|`,
+/// `ŷ = e_y/|e_y|` centred at `o`, the rectangle is `[x₀, x₁] × [y₀, y₁]` in
+/// the plane at distance `h` from `o`. The map picks
+///
+/// 1. the column `x_u`: the sub-rectangle `[x₀, x_u] × [y₀, y₁]` subtends
+///    `u·Ω`;
+/// 2. the row `y_v` in that column: with `hⱼ = yⱼ/√(x_u² + h² + yⱼ²)` (the
+///    cosine of the angle between ŷ and the direction to `(x_u, yⱼ)`), the
+///    value `h_v = h₀ + v(h₁ − h₀)` belongs to `y_v`.
+///
+/// The point is `s + ξ e_x + η e_y` with `ξ = (x_u − x₀)/|e_x|`,
+/// `η = (y_v − y₀)/|e_y|`, and the direction is the unit vector from `o`
+/// to it. `u = 0` and `u = 1` give exactly the edges `ξ = 0` and `ξ = 1`,
+/// likewise `v`.
+///
+/// # Variants
+/// [`SphericalRectangleVariant::Robust`] (the default) evaluates the map
+/// accurately for every rectangle and every `(u, v)`;
+/// [`SphericalRectangleVariant::Literal`] runs the published algorithm, for
+/// comparison. Both share the validation, the density `1/Ω` (the accurate
+/// Ω) and the inverse.
+///
+/// # Input
+/// The edges must be perpendicular to within 64 units of roundoff of the
+/// precision the data are given in (`|cos ∠(e_x, e_y)| ≤ 64·2^-p`); `e_y`
+/// is then replaced by its component perpendicular to `e_x`, so that the
+/// shape is an exact rectangle at every precision. Rejected: non-finite
+/// numbers, zero-length edges, non-perpendicular edges, an observer exactly
+/// in the rectangle's plane, a rectangle of zero (underflowing) solid angle.
+///
+/// # Density
+/// Uniform in solid angle: `pdf(ω) = 1/Ω` for directions on the spherical
+/// rectangle (within `2^-p/2`), 0 elsewhere; `measure() = Ω`. In area
+/// measure on the rectangle: [`SphericalRectangle::pdf_area`].
+///
+/// # Example
+/// ```
+/// use areawarp::shapes::SphericalRectangle;
+/// use areawarp::{Vec3, Warp};
+///
+/// // A unit square one unit below the observer.
+/// let r = SphericalRectangle::<f64>::new(
+///     Vec3::new(-0.5, -0.5, 0.0),
+///     Vec3::new(1.0, 0.0, 0.0),
+///     Vec3::new(0.0, 1.0, 0.0),
+///     Vec3::new(0.0, 0.0, 1.0),
+/// )
+/// .unwrap();
+/// // Ω = 4·asin(1/5) for this square.
+/// assert!((r.solid_angle() - 4.0 * 0.2f64.asin()).abs() < 1e-15);
+/// let (p, d) = r.sample_point(&0.5, &0.5);
+/// assert!(p.norm() < 1e-15 && (d.z + 1.0).abs() < 1e-15); // the centre
+/// let (u, v) = r.inverse(&d).unwrap();
+/// assert!((u - 0.5).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SphericalRectangle<T> {
+    /// `e_y` as given (the geometry holds it squared up).
+    ey_input: Vec3<T>,
+    geometry: Geometry<T>,
+    robust: Robust<T>,
+    literal: Option<Literal<T>>,
+    variant: SphericalRectangleVariant,
+    bits: u32,
+    omega: T,
+    inv_omega: T,
+}
+
+impl<T: Real> SphericalRectangle<T> {
+    /// The rectangle with corner `s` and edges `ex`, `ey` seen from `o`,
+    /// [`Robust`](SphericalRectangleVariant::Robust) evaluation.
+    ///
+    /// # Errors
+    /// [`WarpError::NonFinite`] for non-finite input,
+    /// [`WarpError::Degenerate`] for a zero-length edge, an observer in the
+    /// plane of the rectangle or a zero solid angle,
+    /// [`WarpError::InvalidParameter`] for edges that are not perpendicular
+    /// (`|cos ∠(ex, ey)| > 64·2^-p`, `p` the precision of `T`).
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::SphericalRectangle;
+    /// use areawarp::{Vec3, WarpError};
+    /// let in_plane = SphericalRectangle::<f64>::new(
+    ///     Vec3::new(0.0, 0.0, 0.0),
+    ///     Vec3::new(1.0, 0.0, 0.0),
+    ///     Vec3::new(0.0, 1.0, 0.0),
+    ///     Vec3::new(3.0, 2.0, 0.0),
+    /// );
+    /// assert!(matches!(in_plane, Err(WarpError::Degenerate { .. })));
+    /// ```
+    pub fn new(s: Vec3<T>, ex: Vec3<T>, ey: Vec3<T>, o: Vec3<T>) -> Result<Self, WarpError> {
+        Self::new_with(s, ex, ey, o, SphericalRectangleVariant::default())
+    }
+
+    /// [`SphericalRectangle::new`] with the evaluation `variant`.
+    ///
+    /// # Errors
+    /// As [`SphericalRectangle::new`].
+    pub fn new_with(
+        s: Vec3<T>,
+        ex: Vec3<T>,
+        ey: Vec3<T>,
+        o: Vec3<T>,
+        variant: SphericalRectangleVariant,
+    ) -> Result<Self, WarpError> {
+        Self::with_input_precision(s, ex, ey, o, variant, T::precision())
+    }
+
+    /// [`SphericalRectangle::new_with`] for data that were rounded to `bits`
+    /// significand bits before being converted to `T` (e.g. `f32` or `f64`
+    /// data evaluated at 256 bits): the perpendicularity tolerance is that of
+    /// the coarser of `bits` and `T`'s precision. [`WarpFamily::at`] uses
+    /// it to rebuild a shape at higher precision.
+    ///
+    /// # Errors
+    /// As [`SphericalRectangle::new`].
+    pub fn with_input_precision(
+        s: Vec3<T>,
+        ex: Vec3<T>,
+        ey: Vec3<T>,
+        o: Vec3<T>,
+        variant: SphericalRectangleVariant,
+        bits: u32,
+    ) -> Result<Self, WarpError> {
+        let bits = bits.min(T::precision());
+        let geometry = Geometry::new(s, ex, ey.clone(), o, bits)?;
+        let robust = Robust::new(&geometry);
+        let omega = robust.solid_angle();
+        if !positive(&omega) || !omega.is_finite() {
+            return Err(WarpError::Degenerate {
+                what: "zero solid angle",
+            });
+        }
+        let out = SphericalRectangle {
+            ey_input: ey,
+            inv_omega: T::one() / &omega,
+            omega,
+            geometry,
+            robust,
+            literal: None,
+            variant: SphericalRectangleVariant::Robust,
+            bits,
+        };
+        Ok(out.with_variant(variant))
+    }
+
+    /// The same rectangle evaluated with `variant`.
+    pub fn with_variant(mut self, variant: SphericalRectangleVariant) -> Self {
+        self.variant = variant;
+        self.literal = match variant {
+            SphericalRectangleVariant::Literal => Some(Literal::new(
+                &self.geometry.s,
+                &self.geometry.ex,
+                &self.ey_input,
+                &self.geometry.o,
+            )),
+            SphericalRectangleVariant::Robust => None,
+        };
+        self
+    }
+
+    /// The evaluation variant.
+    pub fn variant(&self) -> SphericalRectangleVariant {
+        self.variant
+    }
+
+    /// The corner `s`.
+    pub fn corner(&self) -> &Vec3<T> {
+        &self.geometry.s
+    }
+
+    /// The edge `e_x`.
+    pub fn edge_x(&self) -> &Vec3<T> {
+        &self.geometry.ex
+    }
+
+    /// The edge `e_y`, made exactly perpendicular to `e_x` (its component
+    /// perpendicular to `e_x`; equal to the input for perpendicular edges).
+    pub fn edge_y(&self) -> &Vec3<T> {
+        &self.geometry.ey
+    }
+
+    /// The observer `o`.
+    pub fn observer(&self) -> &Vec3<T> {
+        &self.geometry.o
+    }
+
+    /// The unit normal of the rectangle's plane on the observer's side.
+    pub fn normal(&self) -> &Vec3<T> {
+        &self.geometry.zhat
+    }
+
+    /// The distance from the observer to the rectangle's plane.
+    pub fn distance_to_plane(&self) -> &T {
+        &self.geometry.h_world
+    }
+
+    /// The solid angle Ω (steradians), accurate to a few units of roundoff
+    /// for every accepted rectangle (see the type's docs); the density of
+    /// both variants is `1/Ω`.
+    pub fn solid_angle(&self) -> T {
+        self.omega.clone()
+    }
+
+    /// The solid angle `S = γ₀ + γ₁ + γ₂ + γ₃ − 2π` of the paper's Listing 2
+    /// (Girard's formula with `acos` of edge-normal dot products), the value
+    /// the published algorithm samples with. Loses all accuracy for small,
+    /// distant or grazing rectangles; for comparison only.
+    pub fn girard_solid_angle(&self) -> T {
+        match &self.literal {
+            Some(l) => l.solid_angle(),
+            None => Literal::new(
+                &self.geometry.s,
+                &self.geometry.ex,
+                &self.ey_input,
+                &self.geometry.o,
+            )
+            .solid_angle(),
+        }
+    }
+
+    /// `(point, direction)` = M(u, v) by the rectangle's variant: the point
+    /// on the rectangle and the unit direction from the observer to it.
+    /// `u`, `v` are clamped to `[0, 1]` (NaN stays NaN).
+    pub fn sample_point(&self, u: &T, v: &T) -> (Vec3<T>, Vec3<T>) {
+        let s = self.sample(u, v);
+        (s.point, s.direction)
+    }
+
+    /// M(u, v) with both densities ([`RectangleSample`]).
+    pub fn sample(&self, u: &T, v: &T) -> RectangleSample<T> {
+        let (u, v) = (clamp_unit(u), clamp_unit(v));
+        match &self.literal {
+            None => self.sample_robust(&u, &v),
+            Some(lit) => {
+                let point = lit.point(&u, &v);
+                let offset = point.sub(lit.observer());
+                let r2 = offset.norm_squared();
+                let r = r2.sqrt();
+                let direction = if r > T::zero() && r.is_finite() {
+                    offset.scale(&(T::one() / &r))
+                } else {
+                    self.geometry.zhat.neg()
+                };
+                let pdf_area = self.geometry.h_world.clone() * &self.inv_omega / &(r2 * &r);
+                RectangleSample {
+                    point,
+                    direction,
+                    pdf: self.inv_omega.clone(),
+                    pdf_area,
+                }
+            }
+        }
+    }
+
+    fn sample_robust(&self, u: &T, v: &T) -> RectangleSample<T> {
+        let g = &self.geometry;
+        let (xi, x) = self.robust.column_at(u);
+        let (eta, y) = self.robust.row_at(&x, v);
+        let point = g.point(&clamp01(&xi), &clamp01(&eta));
+        let direction = g.direction(&x, &y);
+        // cos θ_p = h/r in the local frame; pdf_area = cos³θ_p / (Ω h²).
+        let r = (x.square() + &y.square() + &g.h.square()).sqrt();
+        let c = g.h.clone() / &r;
+        let pdf_area = c.square() * &c * &self.inv_omega / &g.h_world.square();
+        RectangleSample {
+            point,
+            direction,
+            pdf: self.inv_omega.clone(),
+            pdf_area,
+        }
+    }
+
+    /// The density in area on the rectangle at the point `p`:
+    /// `cos θ_p / (Ω r²) = h / (Ω r³)` with `r = |p − o|` and `h` the
+    /// distance from the observer to the plane; 0 if `p` is farther than
+    /// `2^(−p/2)` (relative to the rectangle's edges) from the rectangle
+    /// ([`SphericalRectangle::inverse_point`]).
+    pub fn pdf_area(&self, p: &Vec3<T>) -> T {
+        if !self.on_rectangle(p) {
+            return T::zero();
+        }
+        let r = p.sub(&self.geometry.o).norm();
+        self.geometry.h_world.clone() * &self.inv_omega / &(r.square() * &r)
+    }
+
+    /// The distance from `p` to the rectangle (world units): the distance
+    /// to the plane plus how far the projection lies outside each edge.
+    /// Non-finite `p`: [`Real::max_value`].
+    pub fn point_outside_by(&self, p: &Vec3<T>) -> T {
+        if !p.is_finite() {
+            return T::max_value();
+        }
+        let g = &self.geometry;
+        let q = p.sub(&g.s);
+        let zero = T::zero();
+        let a = q.dot(&g.xhat);
+        let b = q.dot(&g.yhat);
+        let lx = g.ex.norm();
+        let ly = g.ey.norm();
+        let out_x = (-a.clone()).max(&(a - &lx)).max(&zero);
+        let out_y = (-b.clone()).max(&(b - &ly)).max(&zero);
+        q.dot(&g.zhat).abs() + &out_x + &out_y
+    }
+
+    /// `true` if `p` is on the rectangle within `2^(−p/2)` of its edge
+    /// lengths (in the plane, per edge) and of the sum of the edge lengths
+    /// (off it).
+    fn on_rectangle(&self, p: &Vec3<T>) -> bool {
+        if !p.is_finite() {
+            return false;
+        }
+        let g = &self.geometry;
+        let tol = on_shape_tolerance::<T>();
+        let q = p.sub(&g.s);
+        let (xi, eta) = self.rectangle_coordinates(&q);
+        let off = q.dot(&g.zhat).abs();
+        let size = g.ex.norm() + &g.ey.norm();
+        let one = T::one();
+        xi >= -tol.clone()
+            && xi <= one.clone() + &tol
+            && eta >= -tol.clone()
+            && eta <= one + &tol
+            && off <= tol * &size
+    }
+
+    /// `(ξ, η) = (q·e_x/|e_x|², q·e_y/|e_y|²)` for `q = p − s`.
+    fn rectangle_coordinates(&self, q: &Vec3<T>) -> (T, T) {
+        let g = &self.geometry;
+        (
+            q.dot(&g.ex) / &g.ex.norm_squared(),
+            q.dot(&g.ey) / &g.ey.norm_squared(),
+        )
+    }
+
+    /// `(u, v)` of a point `p` on the rectangle: `u = Ω([x₀, x_p])/Ω`,
+    /// `v = (h_p − h₀)/(h₁ − h₀)`, both computed without cancellation (the
+    /// same for both variants). `None` if `p` is not finite or farther than
+    /// `2^(−p/2)` (relative to the edges) from the rectangle.
+    pub fn inverse_point(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        if !self.on_rectangle(p) {
+            return None;
+        }
+        Some(self.point_uv(p))
+    }
+
+    /// `(u, v)` of the point of the rectangle nearest to `p` (no check).
+    fn point_uv(&self, p: &Vec3<T>) -> (T, T) {
+        let g = &self.geometry;
+        let (xi, eta) = self.rectangle_coordinates(&p.sub(&g.s));
+        let one = T::one();
+        let xi = xi.clamp(&T::zero(), &one);
+        let eta = eta.clamp(&T::zero(), &one);
+        let (ax, bx) = (xi.clone() * &g.lx, (one.clone() - &xi) * &g.lx);
+        let (ay, by) = (eta.clone() * &g.ly, (one - &eta) * &g.ly);
+        let x = if ax <= bx {
+            g.x0.clone() + &ax
+        } else {
+            g.x0.clone() + &g.lx - &bx
+        };
+        let y = if ay <= by {
+            g.y0.clone() + &ay
+        } else {
+            g.y0.clone() + &g.ly - &by
+        };
+        let (u, v) = self.robust.uv_of(&x, &ax, &bx, &y, &ay, &by);
+        (clamp01(&u), clamp01(&v))
+    }
+
+    /// `(u, v)` of the direction `d` (no check beyond finiteness).
+    fn direction_uv(&self, d: &Vec3<T>) -> Option<(T, T)> {
+        let (a, b, c) = self.geometry.local_direction(d)?;
+        // A direction accepted within the tolerance may still point (just)
+        // away from the plane: it is then at the horizon, on an edge.
+        let c = c.max(&T::unit_roundoff().square());
+        let [x, ax, bx, y, ay, by] = self.robust.hit(&a, &b, &c);
+        let (u, v) = self.robust.uv_of(&x, &ax, &bx, &y, &ay, &by);
+        Some((clamp01(&u), clamp01(&v)))
+    }
+
+    /// `true` if the direction `d` lies on the spherical rectangle within
+    /// `2^(−p/2)` ([`Warp::outside_by`]).
+    pub fn contains(&self, d: &Vec3<T>) -> bool {
+        self.outside_by(d) <= on_shape_tolerance::<T>()
+    }
+}
+
+impl<T: Real> Warp<T> for SphericalRectangle<T> {
+    type Point = Vec3<T>;
+
+    /// The unit direction of M(u, v) ([`SphericalRectangle::sample_point`]).
+    fn map(&self, u: &T, v: &T) -> Vec3<T> {
+        self.sample(u, v).direction
+    }
+
+    /// `1/Ω` for directions on the spherical rectangle (within `2^(−p/2)`),
+    /// 0 elsewhere.
+    fn pdf(&self, d: &Vec3<T>) -> T {
+        if self.contains(d) {
+            self.inv_omega.clone()
+        } else {
+            T::zero()
+        }
+    }
+
+    /// Ω.
+    fn measure(&self) -> T {
+        self.omega.clone()
+    }
+
+    /// `(u, v)` of the direction `d` (normalized first): the ray from the
+    /// observer hits the plane at `(x, y)`, `u = Ω([x₀, x])/Ω`,
+    /// `v = (h(y) − h₀)/(h₁ − h₀)`, computed without cancellation (the same
+    /// for both variants). `None` if `d` is not finite or lies farther than
+    /// `2^(−p/2)` from the spherical rectangle.
+    fn inverse(&self, d: &Vec3<T>) -> Option<(T, T)> {
+        if !self.contains(d) {
+            return None;
+        }
+        self.direction_uv(d)
+    }
+
+    /// `| |d| − 1 |` plus the largest sine of the angle by which the
+    /// normalized `d` lies outside one of the four planes through the
+    /// observer and an edge (0 on the spherical rectangle, which is the
+    /// intersection of the four half-spaces). Non-finite or zero `d`:
+    /// [`Real::max_value`].
+    fn outside_by(&self, d: &Vec3<T>) -> T {
+        let Some((a, b, c)) = self.geometry.local_direction(d) else {
+            return T::max_value();
+        };
+        let radial = (d.norm() - &T::one()).abs();
+        radial + &self.robust.outside_local(&a, &b, &c)
+    }
+}
+
+impl<T: Real> WarpFamily<T> for SphericalRectangle<T> {
+    type At<S: Real> = SphericalRectangle<S>;
+
+    /// The rectangle with its input converted to `S` (exactly, from `f32`
+    /// or `f64`), same variant, perpendicularity tolerance of the coarser
+    /// precision ([`SphericalRectangle::with_input_precision`]).
+    fn at<S: Real>(&self) -> Result<SphericalRectangle<S>, WarpError> {
+        let g = &self.geometry;
+        SphericalRectangle::with_input_precision(
+            g.s.convert(),
+            g.ex.convert(),
+            self.ey_input.convert(),
+            g.o.convert(),
+            self.variant,
+            self.bits,
+        )
+    }
+
+    /// `spherical-rectangle` (both variants).
+    fn name(&self) -> String {
+        "spherical-rectangle".to_string()
+    }
+}

@@ -1,0 +1,532 @@
+//! The [`Robust`](super::SphericalRectangleVariant::Robust) evaluation of the
+//! Ureña–Fajardo–King map: every quantity is a product or a sum of positive
+//! terms of accurately computed factors (derivation: `docs/spherical-rectangle.md`).
+//!
+//! Notation (all lengths in the scaled local frame of [`Geometry`]): the
+//! rectangle is `[x₀, x₁] × [y₀, y₁]` in the plane `z = −h`; `ℓⱼ = √(yⱼ² + h²)`
+//! is the distance to the line `y = yⱼ`, `rⱼ(x) = √(x² + ℓⱼ²)`, and
+//!
+//! - `ω(x) = x (ℓ₀ + ℓ₁) / (r₀(x) ℓ₁ + r₁(x) ℓ₀) ∈ (−1, 1)`,
+//! - `Φ(x) = 2 atan(tan(Δ/2) ω(x))`, the solid angle of the strip between the
+//!   columns 0 and x (signed), `Δ` the angle the column's height subtends in
+//!   the limit x → ±∞, `S_d = sin(Δ/2)`, `C_d = cos(Δ/2)`;
+//! - `P = Δ − Φ`, `M = Δ + Φ` (the solid angles from the column to ±∞).
+//!
+//! The sub-rectangle `[x₀, x]` has solid angle `Φ(x) − Φ(x₀)`; the map needs
+//! `x` with `Φ(x) = Φ(x₀) + uΩ`, which is the closed form
+//! `x = 2ℓ₀ℓ₁ C_d S_d sin(Φ/2) cos(Φ/2) / √(sin(P/2) sin(M/2) (ℓ₀ sin(M/2) + ℓ₁ sin(P/2)) (ℓ₀ sin(P/2) + ℓ₁ sin(M/2)))`
+//! evaluated from the sines and cosines of the half angles, each obtained from
+//! a precomputed anchor (the nearer end of `[x₀, x₁]`) and `sin_cos(τ/2)` by
+//! the addition theorems.
+
+use super::geometry::Geometry;
+use crate::real::Real;
+
+/// ω and its complements at one column `x`.
+#[derive(Clone, Debug)]
+pub(super) struct Column<T> {
+    /// `ω(x)`.
+    pub w: T,
+    /// `1 − ω(x)`, without cancellation.
+    pub one_m_w: T,
+    /// `1 + ω(x)`, without cancellation.
+    pub one_p_w: T,
+    /// `N(x) = r₀(x) ℓ₁ + r₁(x) ℓ₀`.
+    pub n: T,
+    /// `r₀(x)`.
+    pub r0: T,
+    /// `r₁(x)`.
+    pub r1: T,
+}
+
+/// The constants of one end of `[x₀, x₁]`, mirrored (`x → −x`) for the end
+/// `x₁` so that the code walks inwards with increasing `x̃` from both ends.
+#[derive(Clone, Debug)]
+struct Anchor<T> {
+    /// `ω̃ₑ` (`ω₀`, or `−ω₁` at the end `x₁`).
+    w: T,
+    /// `|ωₑ|`.
+    abs_w: T,
+    /// `1 − |ωₑ|`.
+    one_m_abs_w: T,
+    /// `x̃ₑ` (`x₀`, or `−x₁`).
+    x: T,
+    /// `sin(Φ̃ₑ/2)`, `cos(Φ̃ₑ/2)`.
+    s_phi: T,
+    c_phi: T,
+    /// `sin(P̃ₑ/2)`, `cos(P̃ₑ/2)` with `P̃ = Δ − Φ̃`.
+    s_p: T,
+    c_p: T,
+    /// `sin(M̃ₑ/2)`, `cos(M̃ₑ/2)` with `M̃ = Δ + Φ̃`.
+    s_m: T,
+    c_m: T,
+    /// `√S(ωₑ) = 2ℓ₀ℓ₁(ℓ₀ + ℓ₁)/N(xₑ)`.
+    sqrt_s: T,
+    /// `N(xₑ)/(ℓ₀ + ℓ₁)`.
+    n_over_sigma: T,
+    /// `C_d / cos(Φₑ/2) = √(C_d² + S_d² ωₑ²)`.
+    n: T,
+    /// `ωₑ = 0` (the end passes through the foot of the observer).
+    w_zero: bool,
+    /// `ω̃ₑ < 0`.
+    w_negative: bool,
+}
+
+/// The per-shape constants of the robust map and of the (shared) inverse.
+#[derive(Clone, Debug)]
+pub(super) struct Robust<T> {
+    x0: T,
+    x1: T,
+    inv_lx: T,
+    y0: T,
+    y1: T,
+    ly: T,
+    inv_ly: T,
+    h: T,
+    h2: T,
+    l0: T,
+    l1: T,
+    l0sq: T,
+    l1sq: T,
+    sigma: T,
+    y_sum: T,
+    y_same_sign: bool,
+    sd: T,
+    cd: T,
+    sdcd: T,
+    sd2: T,
+    cd2: T,
+    /// `2ℓ₀ℓ₁ C_d S_d`.
+    k_x: T,
+    col0: Column<T>,
+    col1: Column<T>,
+    /// `1/√(x₀² + h²)`, `1/√(x₁² + h²)`, `1/ℓ₀`, `1/ℓ₁` (for `outside_by`).
+    inv_d0: T,
+    inv_d1: T,
+    inv_l0: T,
+    inv_l1: T,
+    omega: T,
+    half_omega: T,
+    anchors: [Anchor<T>; 2],
+}
+
+/// The lengths a column needs.
+struct Lengths<'a, T> {
+    l0: &'a T,
+    l1: &'a T,
+    l0sq: &'a T,
+    l1sq: &'a T,
+    sigma: &'a T,
+}
+
+fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
+    let x2 = x.square();
+    let r0 = (x2.clone() + k.l0sq).sqrt();
+    let r1 = (x2 + k.l1sq).sqrt();
+    let n = r0.clone() * k.l1 + &(r1.clone() * k.l0);
+    let w = x.clone() * k.sigma / &n;
+    let one = T::one();
+    let l0l1 = k.l0.clone() * k.l1;
+    let (one_m_w, one_p_w) = if *x > T::zero() {
+        // N − xσ = ℓ₁(r₀ − x) + ℓ₀(r₁ − x), rⱼ − x = ℓⱼ²/(rⱼ + x).
+        let c = l0l1
+            * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x)))
+            / &n;
+        (c, one + &w)
+    } else if *x < T::zero() {
+        let c = l0l1
+            * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x)))
+            / &n;
+        (one - &w, c)
+    } else {
+        (one.clone(), one)
+    };
+    Column {
+        w,
+        one_m_w,
+        one_p_w,
+        n,
+        r0,
+        r1,
+    }
+}
+
+impl<T: Real> Robust<T> {
+    /// The constants of the rectangle of `g`.
+    pub fn new(g: &Geometry<T>) -> Self {
+        let one = T::one();
+        let two = T::from_i64(2);
+        let half = T::from_ratio(1, 2);
+        let (x0, lx, y0, ly, h) = (
+            g.x0.clone(),
+            g.lx.clone(),
+            g.y0.clone(),
+            g.ly.clone(),
+            g.h.clone(),
+        );
+        let x1 = x0.clone() + &lx;
+        let y1 = y0.clone() + &ly;
+        let h2 = h.square();
+        let l0 = y0.hypot(&h);
+        let l1 = y1.hypot(&h);
+        let l0sq = y0.square() + &h2;
+        let l1sq = y1.square() + &h2;
+        let sigma = l0.clone() + &l1;
+        let lengths = Lengths {
+            l0: &l0,
+            l1: &l1,
+            l0sq: &l0sq,
+            l1sq: &l1sq,
+            sigma: &sigma,
+        };
+        let col0 = column(&x0, &lengths);
+        let col1 = column(&x1, &lengths);
+
+        // Δ = θ₁ − θ₀ with tan θⱼ = yⱼ/h: relative accuracy when Δ is small
+        // (then y₀y₁ > 0 and the denominator is a sum). cos(Δ/2) from the
+        // complementary angles tⱼ = π/2 ∓ θⱼ, exact when Δ ≈ π.
+        let delta = (h.clone() * &ly).atan2(&(h2.clone() + &(y0.clone() * &y1)));
+        let t0 = h.atan2(&(-y0.clone()));
+        let t1 = h.atan2(&y1);
+        let sd = (delta * &half).sin();
+        let cd = ((t0 + &t1) * &half).sin();
+        let sdcd = sd.clone() * &cd;
+        let sd2 = sd.square();
+        let cd2 = cd.square();
+
+        let mut r = Robust {
+            inv_lx: one.clone() / &lx,
+            inv_ly: one.clone() / &ly,
+            inv_d0: one.clone() / &x0.hypot(&h),
+            inv_d1: one.clone() / &x1.hypot(&h),
+            inv_l0: one.clone() / &l0,
+            inv_l1: one.clone() / &l1,
+            y_sum: y1.clone() + &y0,
+            y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
+            k_x: two.clone() * &l0 * &l1 * &sdcd,
+            anchors: [
+                anchor(&col0, &x0, false, &sd, &cd, &lengths),
+                anchor(&col1, &x1, true, &sd, &cd, &lengths),
+            ],
+            x0,
+            x1,
+            y0,
+            y1,
+            ly,
+            h,
+            h2,
+            l0,
+            l1,
+            l0sq,
+            l1sq,
+            sigma,
+            sd,
+            cd,
+            sdcd,
+            sd2,
+            cd2,
+            col0,
+            col1,
+            omega: T::zero(),
+            half_omega: T::zero(),
+        };
+        let dw = r.omega_diff(&r.x0, &r.col0, &r.x1, &r.col1, &lx);
+        r.omega = r.solid_angle_between(&r.col0, &r.col1, &dw);
+        r.half_omega = r.omega.clone() * &half;
+        r
+    }
+
+    /// The solid angle Ω of the rectangle.
+    pub fn solid_angle(&self) -> T {
+        self.omega.clone()
+    }
+
+    fn lengths(&self) -> Lengths<'_, T> {
+        Lengths {
+            l0: &self.l0,
+            l1: &self.l1,
+            l0sq: &self.l0sq,
+            l1sq: &self.l1sq,
+            sigma: &self.sigma,
+        }
+    }
+
+    /// `ω(x_b) − ω(x_a)` for `x_a ≤ x_b`, `len = x_b − x_a` (given exactly).
+    fn omega_diff(&self, xa: &T, ca: &Column<T>, xb: &T, cb: &Column<T>, len: &T) -> T {
+        if *len == T::zero() {
+            return T::zero();
+        }
+        let zero = T::zero();
+        if (*xa > zero && *xb > zero) || (*xa < zero && *xb < zero) {
+            // x_b rⱼ(x_a) − x_a rⱼ(x_b) = ℓⱼ² (x_b − x_a)(x_b + x_a) / (x_b rⱼ(x_a) + x_a rⱼ(x_b)).
+            let t = self.l1.clone() * &self.l0sq
+                / &(xb.clone() * &ca.r0 + &(xa.clone() * &cb.r0))
+                + &(self.l0.clone() * &self.l1sq
+                    / &(xb.clone() * &ca.r1 + &(xa.clone() * &cb.r1)));
+            self.sigma.clone() * len * &(xb.clone() + xa) * &t / &(ca.n.clone() * &cb.n)
+        } else {
+            cb.w.clone() - &ca.w
+        }
+    }
+
+    /// `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`.
+    fn solid_angle_between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
+        let y = self.sdcd.clone() * dw;
+        let x = self.cd2.clone() + &(self.sd2.clone() * &ca.w * &cb.w);
+        y.atan2(&x) * &T::from_i64(2)
+    }
+
+    /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
+    /// `x_u` (scaled local), for `u ∈ [0, 1]`.
+    pub fn column_at(&self, u: &T) -> (T, T) {
+        let half = T::from_ratio(1, 2);
+        let (a, uu, mirrored) = if *u <= half {
+            (&self.anchors[0], u.clone(), false)
+        } else {
+            (&self.anchors[1], T::one() - u, true)
+        };
+        let (st, ct) = (uu * &self.half_omega).sin_cos();
+        // Half angles at the sample by the addition theorems (τ/2 ≥ 0 moves
+        // Φ̃ and M̃ up and P̃ down).
+        let su = a.s_phi.clone() * &ct + &(a.c_phi.clone() * &st);
+        let gu = a.c_phi.clone() * &ct - &(a.s_phi.clone() * &st);
+        let sp = a.s_p.clone() * &ct - &(a.c_p.clone() * &st);
+        let sm = a.s_m.clone() * &ct + &(a.c_m.clone() * &st);
+        let (l0, l1) = (&self.l0, &self.l1);
+        let q = sp.clone()
+            * &sm
+            * &(l0.clone() * &sm + &(l1.clone() * &sp))
+            * &(l0.clone() * &sp + &(l1.clone() * &sm));
+        let rq = q.sqrt();
+        let xt = self.k_x.clone() * &su * &gu / &rq;
+        let dx = if a.w_negative && su > T::zero() {
+            // The column crossed the foot: both terms positive.
+            xt.clone() - &a.x
+        } else {
+            // Same sign: x(ω) − x(ωₑ) = (Nₑ/σ) δω (ω + ωₑ) F / ((ω√Sₑ + ωₑ√S) √S),
+            // everything multiplied through by g = cos(Φ̃/2) S_d.
+            let g = gu * &self.sd;
+            let wh = su * &self.cd;
+            let dh = st * &a.n;
+            let (one_m_abs, aw) = if wh >= T::zero() {
+                (sp, wh.clone())
+            } else {
+                (sm, -wh.clone())
+            };
+            let m_minus = one_m_abs + &(aw.clone() * &a.one_m_abs_w);
+            let m_plus = g.clone() + &(aw * &a.abs_w);
+            let fg2 = (l0.clone() * &m_plus + &(l1.clone() * &m_minus))
+                * &(l0.clone() * &m_minus + &(l1.clone() * &m_plus));
+            if a.w_zero {
+                a.n_over_sigma.clone() * &dh * &fg2 / &(g * &a.sqrt_s * &rq)
+            } else {
+                let num = a.n_over_sigma.clone() * &dh * &(wh.clone() + &(a.w.clone() * &g)) * &fg2;
+                let den = (wh * &g * &a.sqrt_s + &(a.w.clone() * &rq)) * &rq;
+                num / &den
+            }
+        };
+        if mirrored {
+            (T::one() - &(dx * &self.inv_lx), -xt)
+        } else {
+            (dx * &self.inv_lx, xt)
+        }
+    }
+
+    /// The row of the sample in column `x`: `(η, y_v)` with
+    /// `η = (y_v − y₀)/(y₁ − y₀)`, for `v ∈ [0, 1]`.
+    pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
+        let one = T::one();
+        let x2 = x.square();
+        let d2 = x2.clone() + &self.h2;
+        let dd = d2.sqrt();
+        let r0 = (x2.clone() + &self.l0sq).sqrt();
+        let r1 = (x2 + &self.l1sq).sqrt();
+        let ir0 = one.clone() / &r0;
+        let ir1 = one.clone() / &r1;
+        let s0 = self.y0.clone() * &ir0;
+        let s1 = self.y1.clone() * &ir1;
+        // h₁ − h₀ (hⱼ = yⱼ/rⱼ, the paper's h).
+        let dh = if self.y_same_sign {
+            d2.clone() * &self.ly * &self.y_sum
+                / &((self.y1.clone() * &r0 + &(self.y0.clone() * &r1)) * &r0 * &r1)
+        } else {
+            s1.clone() - &s0
+        };
+        let vm = one.clone() - v;
+        // 1 − h_v² for h_v = (1 − v)h₀ + v h₁: a sum of three non-negative terms.
+        let c2 = d2.clone() * &(vm.clone() * &ir0.square() + &(v.clone() * &ir1.square()))
+            + &(v.clone() * &vm * &dh.square());
+        let c = c2.sqrt();
+        let (se, re, ye, dsv, mirrored) = if *v <= T::from_ratio(1, 2) {
+            (s0, r0, self.y0.clone(), v.clone() * &dh, false)
+        } else {
+            (-s1, r1, -self.y1.clone(), vm * &dh, true)
+        };
+        let s = se.clone() + &dsv;
+        let yt = dd.clone() * &s / &c;
+        let dy = if se < T::zero() && s > T::zero() {
+            yt.clone() - &ye
+        } else if se == T::zero() {
+            re.square() * &dsv / &(dd * &c)
+        } else {
+            re.square() * &dsv * &(s.clone() + &se) / &((s * &dd + &(se * &re * &c)) * &c)
+        };
+        if mirrored {
+            (one - &(dy * &self.inv_ly), -yt)
+        } else {
+            (dy * &self.inv_ly, yt)
+        }
+    }
+
+    /// `(u, v)` of the local point `(x, y)` with the offsets
+    /// `ax = x − x₀`, `bx = x₁ − x`, `ay = y − y₀`, `by = y₁ − y`, all ≥ 0.
+    #[allow(clippy::too_many_arguments)]
+    pub fn uv_of(&self, x: &T, ax: &T, bx: &T, y: &T, ay: &T, by: &T) -> (T, T) {
+        let one = T::one();
+        let col = column(x, &self.lengths());
+        let u = if ax <= bx {
+            let dw = self.omega_diff(&self.x0, &self.col0, x, &col, ax);
+            self.solid_angle_between(&self.col0, &col, &dw) / &self.omega
+        } else {
+            let dw = self.omega_diff(x, &col, &self.x1, &self.col1, bx);
+            one.clone() - &(self.solid_angle_between(&col, &self.col1, &dw) / &self.omega)
+        };
+        let d2 = x.square() + &self.h2;
+        let ry = (d2.clone() + &y.square()).sqrt();
+        let total = row_diff(&self.y0, &col.r0, &self.y1, &col.r1, &self.ly, &d2);
+        let v = if ay <= by {
+            row_diff(&self.y0, &col.r0, y, &ry, ay, &d2) / &total
+        } else {
+            one - &(row_diff(y, &ry, &self.y1, &col.r1, by, &d2) / &total)
+        };
+        (u, v)
+    }
+
+    /// The local hit point of the unit local direction `(a, b, c)`
+    /// (`c = −w·ẑ > 0`) on the plane: `(x, y)` and the clamped offsets
+    /// `(x − x₀, x₁ − x, y − y₀, y₁ − y)`.
+    pub fn hit(&self, a: &T, b: &T, c: &T) -> [T; 6] {
+        let k = self.h.clone() / c;
+        let x = a.clone() * &k;
+        let y = b.clone() * &k;
+        self.offsets(x, y)
+    }
+
+    /// `[x, x − x₀, x₁ − x, y, y − y₀, y₁ − y]` with `x, y` clamped to the
+    /// rectangle.
+    pub fn offsets(&self, x: T, y: T) -> [T; 6] {
+        let zero = T::zero();
+        let x = x.clamp(&self.x0, &self.x1);
+        let y = y.clamp(&self.y0, &self.y1);
+        let ax = (x.clone() - &self.x0).max(&zero);
+        let bx = (self.x1.clone() - &x).max(&zero);
+        let ay = (y.clone() - &self.y0).max(&zero);
+        let by = (self.y1.clone() - &y).max(&zero);
+        [x, ax, bx, y, ay, by]
+    }
+
+    /// How far the unit local direction `(a, b, c)` lies outside the
+    /// spherical rectangle: the largest sine of the angle by which it
+    /// violates one of the four bounding planes through the observer, 0
+    /// inside.
+    pub fn outside_local(&self, a: &T, b: &T, c: &T) -> T {
+        let h = &self.h;
+        let g = [
+            (h.clone() * a - &(self.x0.clone() * c)) * &self.inv_d0,
+            (self.x1.clone() * c - &(h.clone() * a)) * &self.inv_d1,
+            (h.clone() * b - &(self.y0.clone() * c)) * &self.inv_l0,
+            (self.y1.clone() * c - &(h.clone() * b)) * &self.inv_l1,
+        ];
+        let mut worst = T::zero();
+        for gi in g {
+            if -gi.clone() > worst {
+                worst = -gi;
+            }
+        }
+        worst
+    }
+}
+
+/// `y_b/r_b − y_a/r_a` for `y_a ≤ y_b` in the column `D² = d2`, with
+/// `len = y_b − y_a` given: a product when `y_a`, `y_b` have the same sign.
+fn row_diff<T: Real>(ya: &T, ra: &T, yb: &T, rb: &T, len: &T, d2: &T) -> T {
+    let zero = T::zero();
+    if *len == zero {
+        return zero;
+    }
+    if (*ya >= zero && *yb >= zero) || (*ya <= zero && *yb <= zero) {
+        d2.clone() * len * &(yb.clone() + ya)
+            / &((yb.clone() * ra + &(ya.clone() * rb)) * ra * rb)
+    } else {
+        yb.clone() / rb - &(ya.clone() / ra)
+    }
+}
+
+fn anchor<T: Real>(
+    col: &Column<T>,
+    x: &T,
+    mirror: bool,
+    sd: &T,
+    cd: &T,
+    k: &Lengths<'_, T>,
+) -> Anchor<T> {
+    let two = T::from_i64(2);
+    let w = col.w.clone();
+    let sdw = sd.clone() * &w;
+    let n = cd.hypot(&sdw);
+    let s_phi = sdw.clone() / &n;
+    let c_phi = cd.clone() / &n;
+    let sdcd_n = sd.clone() * cd / &n;
+    let s_p = col.one_m_w.clone() * &sdcd_n;
+    let s_m = col.one_p_w.clone() * &sdcd_n;
+    let cd2 = cd.square();
+    let sd2w = sd.clone() * &sdw;
+    let c_p = (cd2.clone() + &sd2w) / &n;
+    let c_m = (cd2 - &sd2w) / &n;
+    let one_m_abs_w = if w >= T::zero() {
+        col.one_m_w.clone()
+    } else {
+        col.one_p_w.clone()
+    };
+    let sqrt_s = two * k.l0 * k.l1 * k.sigma / &col.n;
+    let n_over_sigma = col.n.clone() / k.sigma;
+    let w_zero = w == T::zero();
+    let abs_w = w.abs();
+    if mirror {
+        Anchor {
+            w_negative: w > T::zero(),
+            w: -w,
+            abs_w,
+            one_m_abs_w,
+            x: -x.clone(),
+            s_phi: -s_phi,
+            c_phi,
+            s_p: s_m,
+            c_p: c_m,
+            s_m: s_p,
+            c_m: c_p,
+            sqrt_s,
+            n_over_sigma,
+            n,
+            w_zero,
+        }
+    } else {
+        Anchor {
+            w_negative: w < T::zero(),
+            w,
+            abs_w,
+            one_m_abs_w,
+            x: x.clone(),
+            s_phi,
+            c_phi,
+            s_p,
+            c_p,
+            s_m,
+            c_m,
+            sqrt_s,
+            n_over_sigma,
+            n,
+            w_zero,
+        }
+    }
+}

@@ -1,0 +1,988 @@
+//! Tests of the spherical rectangle: validation, the ladder of hard shapes
+//! (accuracy against 256 bits relative to the map's own sensitivity), the
+//! recipe specification, the Jacobian, the inverse, the densities and χ².
+
+use super::*;
+use crate::harness::chi2::{Binning, run_chi_square};
+use crate::harness::extremes::{extremes_grid, random_points};
+use crate::vector::Vec3;
+
+type V = SphericalRectangleVariant;
+
+fn all_shapes() -> Vec<(String, [Vec3<f64>; 4])> {
+    let mut v = hard_rectangles();
+    v.extend(ordinary_rectangles());
+    v
+}
+
+fn build<T: Real>(p: &[Vec3<f64>; 4], variant: V) -> Result<SphericalRectangle<T>, WarpError> {
+    SphericalRectangle::<f64>::new_with(
+        p[0].clone(),
+        p[1].clone(),
+        p[2].clone(),
+        p[3].clone(),
+        variant,
+    )?
+    .at::<T>()
+}
+
+fn v3(x: f64, y: f64, z: f64) -> Vec3<f64> {
+    Vec3::new(x, y, z)
+}
+
+fn unit_square() -> [Vec3<f64>; 4] {
+    [
+        v3(-0.5, -0.5, -1.0),
+        v3(1.0, 0.0, 0.0),
+        v3(0.0, 1.0, 0.0),
+        v3(0.0, 0.0, 0.0),
+    ]
+}
+
+#[test]
+fn spherical_rectangle_constructor_errors() {
+    let [s, ex, ey, o] = unit_square();
+    let new = |s: Vec3<f64>, ex: Vec3<f64>, ey: Vec3<f64>, o: Vec3<f64>| {
+        SphericalRectangle::new(s, ex, ey, o)
+    };
+    assert!(new(s.clone(), ex.clone(), ey.clone(), o.clone()).is_ok());
+    let nan = v3(f64::NAN, 0.0, 0.0);
+    let inf = v3(0.0, f64::INFINITY, 0.0);
+    for (i, bad) in [nan, inf].into_iter().enumerate() {
+        let e = [
+            new(bad.clone(), ex.clone(), ey.clone(), o.clone()),
+            new(s.clone(), bad.clone(), ey.clone(), o.clone()),
+            new(s.clone(), ex.clone(), bad.clone(), o.clone()),
+            new(s.clone(), ex.clone(), ey.clone(), bad.clone()),
+        ];
+        for (j, r) in e.into_iter().enumerate() {
+            assert!(matches!(r, Err(WarpError::NonFinite { .. })), "{i} {j}: {r:?}");
+        }
+    }
+    // Zero-length edges.
+    let r = new(s.clone(), Vec3::zero(), ey.clone(), o.clone());
+    assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
+    let r = new(s.clone(), ex.clone(), Vec3::zero(), o.clone());
+    assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
+    // Perpendicularity: |cos| = 32 u accepted, 128 u rejected.
+    let u = f64::EPSILON / 2.0;
+    let ok = new(s.clone(), ex.clone(), v3(32.0 * u, 1.0, 0.0), o.clone());
+    assert!(ok.is_ok(), "{ok:?}");
+    let skew = new(s.clone(), ex.clone(), v3(128.0 * u, 1.0, 0.0), o.clone());
+    assert!(matches!(skew, Err(WarpError::InvalidParameter { .. })), "{skew:?}");
+    let skew = new(s.clone(), ex.clone(), v3(0.5, 1.0, 0.0), o.clone());
+    assert!(matches!(skew, Err(WarpError::InvalidParameter { .. })));
+    // The squared-up edge is exactly perpendicular.
+    let r = ok.unwrap();
+    assert_eq!(r.edge_y().x, 0.0);
+    // Observer exactly in the plane (inside or outside the rectangle).
+    for o in [v3(0.1, 0.2, -1.0), v3(3.0, -2.0, -1.0)] {
+        let r = new(s.clone(), ex.clone(), ey.clone(), o);
+        assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
+    }
+    // Zero solid angle: so far away that Ω underflows.
+    let r = new(s.clone(), ex.clone(), ey.clone(), v3(0.0, 0.0, 1e200));
+    assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
+    // The same errors at f32, and a tiny but non-zero height is accepted.
+    let r = SphericalRectangle::<f32>::new(
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 0.0),
+        Vec3::new(-0.5, 0.5, 1e-30),
+    );
+    assert!(r.is_ok(), "{r:?}");
+    let r = SphericalRectangle::<f32>::new(
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1e-3, 1.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+    );
+    assert!(matches!(r, Err(WarpError::InvalidParameter { .. })));
+}
+
+#[test]
+fn spherical_rectangle_variant_names() {
+    assert_eq!(V::default(), V::Robust);
+    assert_eq!("Literal".parse::<V>().unwrap(), V::Literal);
+    assert_eq!(" robust ".parse::<V>().unwrap(), V::Robust);
+    assert!("fast".parse::<V>().is_err());
+    assert_eq!(V::Literal.to_string(), "literal");
+    let [s, ex, ey, o] = unit_square();
+    let r = SphericalRectangle::new_with(s, ex, ey, o, V::Literal).unwrap();
+    assert_eq!(r.name(), "spherical-rectangle");
+    assert_eq!(r.variant(), V::Literal);
+    assert_eq!(r.at::<f32>().unwrap().variant(), V::Literal);
+    assert_eq!(r.clone().with_variant(V::Robust).variant(), V::Robust);
+}
+
+#[test]
+fn spherical_rectangle_head_on_square() {
+    let [s, ex, ey, o] = unit_square();
+    for variant in [V::Robust, V::Literal] {
+        let r = SphericalRectangle::new_with(s.clone(), ex.clone(), ey.clone(), o.clone(), variant)
+            .unwrap();
+        let omega = 4.0 * 0.2f64.asin();
+        assert!((r.solid_angle() / omega - 1.0).abs() <= 2.0 * f64::EPSILON);
+        assert!((r.girard_solid_angle() / omega - 1.0).abs() <= 1e-14);
+        // The centre and the corners.
+        let (p, d) = r.sample_point(&0.5, &0.5);
+        assert!(p.x.hypot(p.y) < 1e-15 && p.z == -1.0 && (d.z + 1.0).abs() < 1e-15, "{variant}: {p:?}");
+        for (u, v, x, y) in [
+            (0.0, 0.0, -0.5, -0.5),
+            (1.0, 0.0, 0.5, -0.5),
+            (0.0, 1.0, -0.5, 0.5),
+            (1.0, 1.0, 0.5, 0.5),
+        ] {
+            let (p, _) = r.sample_point(&u, &v);
+            assert!((p.x - x).abs() < 1e-15 && (p.y - y).abs() < 1e-15, "{variant}: {p:?}");
+        }
+    }
+    // Robust: the edges exactly.
+    let r = SphericalRectangle::new(s, ex, ey, o).unwrap();
+    for t in [0.0, 1e-12, 0.3, 0.5, 0.9, 1.0] {
+        assert_eq!(r.sample_point(&0.0, &t).0.x, -0.5);
+        assert_eq!(r.sample_point(&1.0, &t).0.x, 0.5);
+        assert_eq!(r.sample_point(&t, &0.0).0.y, -0.5);
+        assert_eq!(r.sample_point(&t, &1.0).0.y, 0.5);
+    }
+}
+
+#[cfg(feature = "mpfr")]
+mod accuracy {
+    //! The ladder against 256 bits, with the bound 16·max(u_T, κ).
+    use super::*;
+    use crate::harness::sensitivity::InputFormat;
+    use crate::real::{Mpfr256, convert};
+
+    type M = Mpfr256;
+
+    /// Errors of one point, in the units of κ: the direction absolutely
+    /// (unit vectors), the point per axis relative to that edge's length
+    /// (and off the plane relative to the shorter edge).
+    pub(super) struct Frame {
+        xhat: Vec3<M>,
+        yhat: Vec3<M>,
+        zhat: Vec3<M>,
+        inv_lx: M,
+        inv_ly: M,
+        inv_small: M,
+    }
+
+    impl Frame {
+        pub(super) fn of(r: &SphericalRectangle<M>) -> Self {
+            let g = &r.geometry;
+            let (lx, ly) = (g.ex.norm(), g.ey.norm());
+            Frame {
+                xhat: g.xhat.clone(),
+                yhat: g.yhat.clone(),
+                zhat: g.zhat.clone(),
+                inv_small: M::one() / &lx.min(&ly),
+                inv_lx: M::one() / &lx,
+                inv_ly: M::one() / &ly,
+            }
+        }
+        /// `max` over the axes of `|Δp·axis| / length`.
+        pub(super) fn point_error(&self, dp: &Vec3<M>) -> M {
+            (dp.dot(&self.xhat).abs() * &self.inv_lx)
+                .max(&(dp.dot(&self.yhat).abs() * &self.inv_ly))
+                .max(&(dp.dot(&self.zhat).abs() * &self.inv_small))
+        }
+    }
+
+    fn params(p: &[Vec3<f64>; 4]) -> [f64; 12] {
+        let mut out = [0.0; 12];
+        for (i, v) in p.iter().enumerate() {
+            out[3 * i] = v.x;
+            out[3 * i + 1] = v.y;
+            out[3 * i + 2] = v.z;
+        }
+        out
+    }
+
+    fn from_params(q: &[f64; 12], bits: u32) -> Result<SphericalRectangle<M>, WarpError> {
+        let v = |i: usize| Vec3::new(M::from_f64(q[i]), M::from_f64(q[i + 1]), M::from_f64(q[i + 2]));
+        SphericalRectangle::with_input_precision(v(0), v(3), v(6), v(9), V::Robust, bits)
+    }
+
+    fn bits(format: InputFormat) -> u32 {
+        match format {
+            InputFormat::F32 => 24,
+            InputFormat::F64 => 53,
+        }
+    }
+
+    /// κ of the direction and of the point (as [`Frame::point_error`]) at
+    /// each input point: the largest move of the exact (256-bit) map under a
+    /// one-ulp change of one of the 12 coordinates, of `u` or of `v`, in the
+    /// input format.
+    pub(super) fn kappas(
+        shape: &[Vec3<f64>; 4],
+        points: &[(f64, f64)],
+        format: InputFormat,
+    ) -> Result<Vec<(f64, f64)>, WarpError> {
+        let b = bits(format);
+        let base: [f64; 12] = params(shape).map(|x| format.round(x));
+        let w = from_params(&base, b)?;
+        let frame = Frame::of(&w);
+        let inputs: Vec<(M, M)> = points
+            .iter()
+            .map(|&(u, v)| (M::from_f64(format.round(u)), M::from_f64(format.round(v))))
+            .collect();
+        let reference: Vec<(Vec3<M>, Vec3<M>)> =
+            inputs.iter().map(|(u, v)| w.sample_point(u, v)).collect();
+        let mut k = vec![(M::zero(), M::zero()); points.len()];
+        let mut record = |i: usize, (p, d): (Vec3<M>, Vec3<M>)| {
+            let kd = d.sub(&reference[i].1).max_abs();
+            let kp = frame.point_error(&p.sub(&reference[i].0));
+            if kd > k[i].0 {
+                k[i].0 = kd;
+            }
+            if kp > k[i].1 {
+                k[i].1 = kp;
+            }
+        };
+        let mut q = base;
+        for j in 0..12 {
+            for x in [format.next_up(base[j]), format.next_down(base[j])] {
+                q[j] = x;
+                let built = from_params(&q, b);
+                q[j] = base[j];
+                let Ok(wp) = built else { continue };
+                for (i, (u, v)) in inputs.iter().enumerate() {
+                    record(i, wp.sample_point(u, v));
+                }
+            }
+        }
+        for (i, &(u, v)) in points.iter().enumerate() {
+            let (u, v) = (format.round(u), format.round(v));
+            for x in [format.next_up(u), format.next_down(u)] {
+                if (0.0..=1.0).contains(&x) {
+                    record(i, w.sample_point(&M::from_f64(x), &inputs[i].1));
+                }
+            }
+            for x in [format.next_up(v), format.next_down(v)] {
+                if (0.0..=1.0).contains(&x) {
+                    record(i, w.sample_point(&inputs[i].0, &M::from_f64(x)));
+                }
+            }
+        }
+        Ok(k.into_iter().map(|(a, b)| (a.to_f64(), b.to_f64())).collect())
+    }
+
+    /// One row of the accuracy table.
+    #[derive(Clone, Debug, Default)]
+    pub(super) struct Row {
+        pub name: String,
+        pub omega: f64,
+        pub points: usize,
+        /// Shape rejected in this precision (e.g. the observer rounds into the plane).
+        pub rejected: bool,
+        /// max error of the direction / of the point, in units of u_T.
+        pub dir_ulps: f64,
+        pub point_ulps: f64,
+        /// max of error / (16·max(u_T, κ)) for direction and point.
+        pub dir_ratio: f64,
+        pub point_ratio: f64,
+        /// max κ over the points, in units of u_T.
+        pub kappa_dir_ulps: f64,
+        pub kappa_point_ulps: f64,
+        pub non_finite: usize,
+        /// Points off the rectangle by more than 4 u_T (|s| + |e_x| + |e_y|),
+        /// directions off the spherical rectangle by more than 16·max(u_T, κ).
+        pub outside: usize,
+        /// max |(u, v) − inverse(map(u, v))| through the direction.
+        pub roundtrip: f64,
+        /// max |(u, v) − inverse_point(point(u, v))|.
+        pub roundtrip_point: f64,
+        /// max of the round-trip error over 16·max(u_T, κ_inv), κ_inv the
+        /// move of the exact inverse under a one-ulp change of one
+        /// coordinate of the direction (resp. point) rounded to T.
+        pub roundtrip_ratio: f64,
+        pub roundtrip_point_ratio: f64,
+        pub roundtrip_failures: usize,
+    }
+
+    /// Measures `variant` in `T` on `shape` against the robust map at 256
+    /// bits of the same shape as `T` sees it.
+    pub(super) fn measure<T: Real>(
+        name: &str,
+        shape: &[Vec3<f64>; 4],
+        variant: V,
+        points: &[(f64, f64)],
+        kappa: &[(f64, f64)],
+    ) -> Row {
+        let mut row = Row {
+            name: name.to_string(),
+            points: points.len(),
+            ..Row::default()
+        };
+        let Ok(wt) = build::<T>(shape, variant) else {
+            row.rejected = true;
+            return row;
+        };
+        let wref = build::<T>(shape, V::Robust)
+            .and_then(|w| w.at::<M>())
+            .expect("the reference accepts what T accepts");
+        row.omega = wref.solid_angle().to_f64();
+        let frame = Frame::of(&wref);
+        let ut = T::unit_roundoff().to_f64();
+        let g = &wref.geometry;
+        let point_scale = M::from_f64(4.0 * ut) * &(g.s.norm() + &g.ex.norm() + &g.ey.norm());
+        for (&(u, v), &(kd, kp)) in points.iter().zip(kappa) {
+            let (u_t, v_t) = (T::from_f64(u), T::from_f64(v));
+            let (p, d) = wt.sample_point(&u_t, &v_t);
+            if !(p.is_finite() && d.is_finite()) {
+                row.non_finite += 1;
+                continue;
+            }
+            let (um, vm): (M, M) = (convert(&u_t), convert(&v_t));
+            let (pr, dr) = wref.sample_point(&um, &vm);
+            let (pm, dm): (Vec3<M>, Vec3<M>) = (p.convert(), d.convert());
+            let ed = dm.sub(&dr).max_abs().to_f64();
+            let ep = frame.point_error(&pm.sub(&pr)).to_f64();
+            let bd = 16.0 * ut.max(kd);
+            let bp = 16.0 * ut.max(kp);
+            row.dir_ulps = row.dir_ulps.max(ed / ut);
+            row.point_ulps = row.point_ulps.max(ep / ut);
+            row.dir_ratio = row.dir_ratio.max(ed / bd);
+            row.point_ratio = row.point_ratio.max(ep / bp);
+            row.kappa_dir_ulps = row.kappa_dir_ulps.max(kd / ut);
+            row.kappa_point_ulps = row.kappa_point_ulps.max(kp / ut);
+            let out_p = wref.point_outside_by(&pm) > point_scale;
+            let out_d = wref.outside_by(&dm).to_f64() > bd;
+            if out_p || out_d {
+                row.outside += 1;
+            }
+            let format = if T::precision() <= 24 {
+                InputFormat::F32
+            } else {
+                InputFormat::F64
+            };
+            let uv = (um.to_f64(), vm.to_f64());
+            for (which, inv) in [(0, wt.inverse(&d)), (1, wt.inverse_point(&p))] {
+                let Some((a, b)) = inv.filter(|(a, b)| a.is_finite() && b.is_finite()) else {
+                    row.roundtrip_failures += 1;
+                    continue;
+                };
+                let e = (a - &u_t).abs().max(&(b - &v_t).abs()).to_f64();
+                let q = if which == 0 { &d } else { &p };
+                let k = inverse_kappa(&wref, which == 0, q, uv, format);
+                let ratio = e / (16.0 * ut.max(k));
+                if which == 0 {
+                    row.roundtrip = row.roundtrip.max(e);
+                    row.roundtrip_ratio = row.roundtrip_ratio.max(ratio);
+                } else {
+                    row.roundtrip_point = row.roundtrip_point.max(e);
+                    row.roundtrip_point_ratio = row.roundtrip_point_ratio.max(ratio);
+                }
+            }
+        }
+        row
+    }
+
+    /// κ of the exact inverse at `q` (a direction or a point in `T`): the
+    /// largest move of the exact `(u, v)` (256 bits) of `q` when one
+    /// coordinate of `q` moves by one ulp (in `format`) of `q`'s largest
+    /// coordinate: the size of the rounding error of every coordinate of a
+    /// computed unit vector, or of a point `s + ξ e_x + η e_y`.
+    fn inverse_kappa<T: Real>(
+        wref: &SphericalRectangle<M>,
+        direction: bool,
+        q: &Vec3<T>,
+        _uv: (f64, f64),
+        format: InputFormat,
+    ) -> f64 {
+        let c = [q.x.to_f64(), q.y.to_f64(), q.z.to_f64()];
+        let eval = |c: [f64; 3]| -> Option<(M, M)> {
+            let v = Vec3::new(M::from_f64(c[0]), M::from_f64(c[1]), M::from_f64(c[2]));
+            if direction {
+                wref.direction_uv(&v)
+            } else {
+                Some(wref.point_uv(&v))
+            }
+        };
+        let Some(base) = eval(c) else {
+            return f64::INFINITY;
+        };
+        let m = c[0].abs().max(c[1].abs()).max(c[2].abs());
+        let step = format.next_up(m) - m;
+        let mut k = M::zero();
+        for i in 0..3 {
+            for x in [c[i] + step, c[i] - step] {
+                let mut cc = c;
+                cc[i] = x;
+                if let Some((a, b)) = eval(cc) {
+                    let m = (a - &base.0).abs().max(&(b - &base.1).abs());
+                    if m > k {
+                        k = m;
+                    }
+                }
+            }
+        }
+        k.to_f64()
+    }
+
+    pub(super) fn print_header() {
+        println!(
+            "{:<34} {:>10} {:>10} {:>10} {:>8} {:>8} {:>10} {:>10} {:>4} {:>4} {:>9} {:>7} {:>9} {:>7}",
+            "shape", "Ω", "dir[u]", "pt[u]", "dir/bd", "pt/bd", "κdir[u]", "κpt[u]", "NaN", "out",
+            "rt(dir)", "rt/bd", "rt(pt)", "rt/bd"
+        );
+    }
+
+    pub(super) fn print_row(r: &Row) {
+        if r.rejected {
+            println!("{:<34} rejected in this precision", r.name);
+            return;
+        }
+        println!(
+            "{:<34} {:>10.3e} {:>10.3e} {:>10.3e} {:>8.3} {:>8.3} {:>10.3e} {:>10.3e} {:>4} {:>4} {:>9.2e} {:>7.3} {:>9.2e} {:>7.3}",
+            r.name,
+            r.omega,
+            r.dir_ulps,
+            r.point_ulps,
+            r.dir_ratio,
+            r.point_ratio,
+            r.kappa_dir_ulps,
+            r.kappa_point_ulps,
+            r.non_finite,
+            r.outside,
+            r.roundtrip,
+            r.roundtrip_ratio,
+            r.roundtrip_point,
+            r.roundtrip_point_ratio
+        );
+    }
+
+    fn ladder_points(random: usize) -> Vec<(f64, f64)> {
+        let mut pts = extremes_grid();
+        pts.extend(random_points(random, 4));
+        pts
+    }
+
+    fn run<T: Real>(format: InputFormat, random: usize) -> Vec<(Row, Row)> {
+        let pts = ladder_points(random);
+        let mut rows = Vec::new();
+        for (name, shape) in all_shapes() {
+            let kappa = match kappas(&shape, &pts, format) {
+                Ok(k) => k,
+                Err(_) => {
+                    let r = Row {
+                        name: name.clone(),
+                        rejected: true,
+                        ..Row::default()
+                    };
+                    rows.push((r.clone(), r));
+                    continue;
+                }
+            };
+            let robust = measure::<T>(&name, &shape, V::Robust, &pts, &kappa);
+            let literal = measure::<T>(&name, &shape, V::Literal, &pts, &kappa);
+            rows.push((robust, literal));
+        }
+        println!("{} — robust:", T::type_name());
+        print_header();
+        rows.iter().for_each(|(r, _)| print_row(r));
+        println!("{} — literal:", T::type_name());
+        print_header();
+        rows.iter().for_each(|(_, l)| print_row(l));
+        rows
+    }
+
+    /// The criteria of issue 4 for the robust map: error ≤ 16·max(u_T, κ)
+    /// for the direction and the point, no NaN, nothing outside, and an
+    /// inverse for every sample. In f64 also the round trip: through the
+    /// point within `max(1e-12, 16 κ_inv)` (κ_inv the sensitivity of the
+    /// exact inverse to a one-ulp change of the point), through the
+    /// direction within 16 times that (the direction carries the forward
+    /// error, up to 16 κ of the map, which the inverse amplifies like a
+    /// rounding error), and within 1e-12 on the ordinary shapes.
+    fn assert_robust(rows: &[(Row, Row)], f64_round_trip: bool) {
+        let ordinary: Vec<String> = ordinary_rectangles().into_iter().map(|(n, _)| n).collect();
+        for (r, _) in rows {
+            if r.rejected {
+                continue;
+            }
+            assert_eq!(r.non_finite, 0, "{r:?}");
+            assert_eq!(r.outside, 0, "{r:?}");
+            assert!(r.dir_ratio <= 1.0 && r.point_ratio <= 1.0, "{r:?}");
+            assert_eq!(r.roundtrip_failures, 0, "{r:?}");
+            if f64_round_trip {
+                assert!(r.roundtrip_point <= 1e-12 || r.roundtrip_point_ratio <= 1.0, "{r:?}");
+                assert!(r.roundtrip <= 1e-12 || r.roundtrip_ratio <= 16.0, "{r:?}");
+                if ordinary.contains(&r.name) {
+                    assert!(r.roundtrip <= 1e-12 && r.roundtrip_point <= 1e-12, "{r:?}");
+                }
+            }
+        }
+    }
+
+
+    #[test]
+    fn spherical_rectangle_robust_f64_within_sensitivity_bound() {
+        let rows = run::<f64>(InputFormat::F64, 8);
+        assert_robust(&rows, true);
+        assert!(rows.iter().all(|(r, _)| !r.rejected));
+    }
+
+    #[test]
+    fn spherical_rectangle_robust_f32_within_sensitivity_bound() {
+        let rows = run::<f32>(InputFormat::F32, 8);
+        assert_robust(&rows, false);
+    }
+
+    /// The full tables (more random points), printed: `cargo test --release
+    /// spherical_rectangle_accuracy_tables -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn spherical_rectangle_accuracy_tables() {
+        let rows = run::<f64>(InputFormat::F64, 256);
+        assert_robust(&rows, true);
+        let rows = run::<f32>(InputFormat::F32, 256);
+        assert_robust(&rows, false);
+    }
+}
+
+
+
+#[cfg(feature = "mpfr")]
+mod exact {
+    //! The recipe specification, the Jacobian and Ω at 256 bits.
+    use super::*;
+    use crate::harness::extremes::EXTREMES;
+    use crate::harness::jacobian::check_jacobian;
+    use crate::real::Mpfr256;
+    use crate::recipe::{
+        AreaDensity, ClosedForm, MarginalConditional, Newton, Parametrization, Recipe, RecipeWarp,
+        Start, Tolerance,
+    };
+
+    type M = Mpfr256;
+
+    fn recipe_at_256(shape: &[Vec3<f64>; 4]) -> SphericalRectangleRecipe<M> {
+        SphericalRectangleRecipe::<f64>::new(
+            shape[0].clone(),
+            shape[1].clone(),
+            shape[2].clone(),
+            shape[3].clone(),
+        )
+        .unwrap()
+        .recast::<M>()
+        .unwrap()
+    }
+
+    fn newton() -> Newton {
+        Newton {
+            tolerance: Tolerance::Ulps(4),
+            max_iterations: 600,
+            start: Some(Start::Linear),
+        }
+    }
+
+    /// The robust map at 256 bits equals the recipe-composed map (Newton on
+    /// F, the closed form for G) to 2⁻²⁰⁰ on the extremes grid.
+    fn recipe_agrees(shapes: &[(String, [Vec3<f64>; 4])]) {
+        let tol = M::exp2i(-200);
+        for (name, shape) in shapes {
+            let spec = RecipeWarp::new(recipe_at_256(shape), newton(), ClosedForm);
+            let direct = build::<M>(shape, V::Robust).unwrap();
+            let rel = (spec.measure() - &direct.solid_angle()).abs() / &direct.solid_angle();
+            assert!(rel <= tol, "{name}: Ω {rel}");
+            let mut worst = M::zero();
+            for &u in &EXTREMES {
+                for &v in &EXTREMES {
+                    let (u, v) = (M::from_f64(u), M::from_f64(v));
+                    let d = spec.map(&u, &v).sub(&direct.map(&u, &v)).max_abs();
+                    if d > worst {
+                        worst = d;
+                    }
+                }
+            }
+            println!("{name:<34} recipe vs robust at 256 bits: {:.3e}", worst.to_f64());
+            assert!(worst <= tol, "{name}: {worst}");
+        }
+    }
+
+    #[test]
+    fn spherical_rectangle_recipe_matches_robust_ordinary() {
+        recipe_agrees(&ordinary_rectangles());
+    }
+
+    #[test]
+    fn spherical_rectangle_recipe_matches_robust_hard() {
+        recipe_agrees(&hard_rectangles());
+    }
+
+    /// The paper's closed-form F⁻¹ (Appendix A) against Newton at 256 bits:
+    /// 2⁻²⁰⁰ on ordinary rectangles; the loss on the hard ones is printed.
+    #[test]
+    fn spherical_rectangle_recipe_closed_form_marginal() {
+        for (name, shape) in all_shapes() {
+            let r = recipe_at_256(&shape);
+            let mut worst = M::zero();
+            for &u in &EXTREMES[1..7] {
+                let u = M::from_f64(u);
+                let closed = r.marginal_inverse(&u).unwrap();
+                let numeric =
+                    crate::recipe::Inverter::invert(&newton(), &crate::recipe::Marginal(&r), &u).x;
+                let d = (closed - &numeric).abs();
+                if d > worst {
+                    worst = d;
+                }
+            }
+            println!("{name:<34} closed-form F⁻¹ vs Newton: {:.3e}", worst.to_f64());
+            if ordinary_rectangles().iter().any(|(n, _)| *n == name) {
+                assert!(worst <= M::exp2i(-200), "{name}: {worst}");
+            }
+        }
+    }
+
+    /// σ (by dual numbers) is `h Lx Ly / r³`, F' and ∂G/∂t are the
+    /// derivatives of F and G, and the CDFs run from 0 to 1.
+    #[test]
+    fn spherical_rectangle_recipe_steps_consistent() {
+        for (name, shape) in ordinary_rectangles().into_iter().chain(hard_rectangles().into_iter().take(4)) {
+            let r = recipe_at_256(&shape);
+            let g = &r.geometry;
+            let tol = M::exp2i(-230);
+            let hstep = M::exp2i(-80);
+            for (sn, tn) in [(1, 3), (1, 2), (5, 7), (9, 10)] {
+                let (s, t) = (M::from_ratio(sn, 10), M::from_ratio(tn, 10));
+                let x = g.x0.clone() + &(s.clone() * &g.lx);
+                let y = g.y0.clone() + &(t.clone() * &g.ly);
+                let r3 = (x.square() + &y.square() + &g.h.square()).sqrt().powi(3);
+                let closed = g.h.clone() * &g.lx * &g.ly / &r3;
+                let sigma = r.sigma(&s, &t);
+                assert!((sigma.clone() - &closed).abs() <= tol.clone() * &closed, "{name}: σ");
+                let two_h = hstep.clone() * &M::from_i64(2);
+                let fd = (r.marginal_cdf(&(s.clone() + &hstep)) - &r.marginal_cdf(&(s.clone() - &hstep)))
+                    / &two_h;
+                let fp = r.marginal_pdf(&s);
+                assert!((fd - &fp).abs() <= M::exp2i(-120) * &fp, "{name}: F'");
+                let gd = (r.conditional_cdf(&s, &(t.clone() + &hstep))
+                    - &r.conditional_cdf(&s, &(t.clone() - &hstep)))
+                    / &two_h;
+                let gp = r.conditional_pdf(&s, &t);
+                assert!((gd - &gp).abs() <= M::exp2i(-120) * &gp, "{name}: G'");
+                // ∫σ dt over the column = m F'(s): σ/(m F') is the conditional density.
+                let cond = sigma / &(r.measure() * &fp);
+                assert!((cond - &gp).abs() <= M::exp2i(-200) * &gp, "{name}: σ = m F' G'");
+            }
+            assert!(r.marginal_cdf(&M::zero()).abs() <= tol);
+            assert!((r.marginal_cdf(&M::one()) - &M::one()).abs() <= M::exp2i(-200));
+            let s = M::from_ratio(1, 3);
+            assert!(r.conditional_cdf(&s, &M::zero()).abs() <= tol);
+            assert!((r.conditional_cdf(&s, &M::one()) - &M::one()).abs() <= tol);
+            // The chart inverts φ.
+            let (s2, t2) = r.chart(&r.phi(&s, &M::from_ratio(2, 3))).unwrap();
+            assert!((s2 - &s).abs() <= M::exp2i(-200), "{name}: chart");
+            assert!((t2 - &M::from_ratio(2, 3)).abs() <= M::exp2i(-200), "{name}: chart");
+        }
+    }
+
+    /// `|ψ_u × ψ_v| · pdf = 1` at 256 bits on the extremes grid, for every
+    /// shape of the ladder and the ordinary ones.
+    #[test]
+    fn spherical_rectangle_jacobian_256_bits() {
+        for (name, shape) in all_shapes() {
+            let w = build::<f64>(&shape, V::Robust).unwrap();
+            let r = check_jacobian(&w, &extremes_grid()).unwrap();
+            println!("{name:<34} Jacobian: max |J·pdf − 1| = {:.3e}", r.max_rel_deviation);
+            assert!(r.passes(1e-60), "{name}: {r:?}");
+            assert_eq!(r.nudged, 0, "{name}: {r:?}");
+        }
+    }
+
+    /// Van Oosterom–Strackee solid angle of the triangle `abc` seen from the
+    /// origin.
+    fn vos(a: &Vec3<M>, b: &Vec3<M>, c: &Vec3<M>) -> M {
+        let det = a.dot(&b.cross(c)).abs();
+        let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+        let den = la.clone() * &lb * &lc
+            + &(a.dot(b) * &lc)
+            + &(a.dot(c) * &lb)
+            + &(b.dot(c) * &la);
+        det.atan2(&den) * &M::from_i64(2)
+    }
+
+    /// Ω against an independent closed form (two triangles by Van
+    /// Oosterom–Strackee, in world coordinates) at 256 bits; the f64 value
+    /// within 16·max(2⁻⁵³, κ_Ω) of it, κ_Ω its sensitivity to one-ulp input
+    /// changes.
+    #[test]
+    fn spherical_rectangle_solid_angle_independent() {
+        let conv = |v: &Vec3<f64>| Vec3::new(M::from_f64(v.x), M::from_f64(v.y), M::from_f64(v.z));
+        for (name, shape) in all_shapes() {
+            let w = build::<M>(&shape, V::Robust).unwrap();
+            let (s, ex, ey, o) = (
+                w.corner().clone(),
+                w.edge_x().clone(),
+                w.edge_y().clone(),
+                w.observer().clone(),
+            );
+            let a = s.sub(&o);
+            let b = a.add(&ex);
+            let c = b.add(&ey);
+            let d = a.add(&ey);
+            let omega = vos(&a, &b, &c) + &vos(&a, &c, &d);
+            let rel = ((w.solid_angle() - &omega) / &omega).abs();
+            assert!(rel <= M::exp2i(-200), "{name}: {rel}");
+            // f64 against the same at 256 bits, and κ_Ω.
+            let w64 = build::<f64>(&shape, V::Robust).unwrap();
+            let err = ((M::from_f64(w64.solid_angle()) - &omega) / &omega).abs().to_f64();
+            let mut kappa: f64 = 0.0;
+            let mut p = shape.clone();
+            for i in 0..4 {
+                for k in 0..3 {
+                    let orig = p[i].to_array()[k];
+                    for x in [orig.next_up(), orig.next_down()] {
+                        let mut arr = p[i].to_array();
+                        arr[k] = x;
+                        p[i] = Vec3::new(arr[0], arr[1], arr[2]);
+                        if let Ok(wp) = build::<M>(&p, V::Robust) {
+                            let k = ((wp.solid_angle() - &omega) / &omega).abs().to_f64();
+                            kappa = kappa.max(k);
+                        }
+                        arr[k] = orig;
+                        p[i] = Vec3::new(arr[0], arr[1], arr[2]);
+                    }
+                }
+            }
+            let ulp = f64::EPSILON / 2.0;
+            let girard = build::<f64>(&shape, V::Literal).unwrap().girard_solid_angle();
+            let girard_err = ((M::from_f64(girard) - &omega) / &omega).abs().to_f64();
+            println!(
+                "{name:<34} Ω = {:.6e}: f64 {:.2} u (κ_Ω {:.2} u); Girard (literal) rel. error {:.2e}",
+                omega.to_f64(),
+                err / ulp,
+                kappa / ulp,
+                girard_err
+            );
+            assert!(err <= 16.0 * ulp.max(kappa), "{name}: {err:e} vs κ {kappa:e}");
+            let _ = conv;
+        }
+    }
+}
+
+/// The solid-angle density reported with each sample equals the standalone
+/// density of its direction (both variants, every shape), and the area
+/// density reported equals the standalone one at its point.
+#[test]
+fn spherical_rectangle_pdf_consistent() {
+    let mut pts = extremes_grid();
+    pts.extend(random_points(64, 11));
+    let ordinary: Vec<String> = ordinary_rectangles().into_iter().map(|(n, _)| n).collect();
+    for (name, shape) in all_shapes() {
+        for variant in [V::Robust, V::Literal] {
+            let w = build::<f64>(&shape, variant).unwrap();
+            let mut worst_area: f64 = 0.0;
+            for &(u, v) in &pts {
+                let s = w.sample(&u, &v);
+                let pdf = w.pdf(&s.direction);
+                assert!(
+                    (pdf / s.pdf - 1.0).abs() <= 1e-12,
+                    "{name} {variant} ({u}, {v}): {pdf} vs {}",
+                    s.pdf
+                );
+                assert_eq!(s.pdf * w.measure(), 1.0, "{name}");
+                let area = w.pdf_area(&s.point);
+                worst_area = worst_area.max((area / s.pdf_area - 1.0).abs());
+            }
+            if variant == V::Literal || ordinary.contains(&name) {
+                assert!(worst_area <= 1e-12, "{name} {variant}: {worst_area:e}");
+            }
+        }
+    }
+}
+
+/// pdf_area = cos θ / (Ω r²) by hand for the head-on square, and the two
+/// densities integrate to 1 (a midpoint sum over the square).
+#[test]
+fn spherical_rectangle_area_density() {
+    let [s, ex, ey, o] = unit_square();
+    let w = SphericalRectangle::new(s, ex, ey, o).unwrap();
+    let p = Vec3::new(0.3, -0.2, -1.0);
+    let r2: f64 = 0.09 + 0.04 + 1.0;
+    let want = (1.0 / r2.sqrt()) / (w.solid_angle() * r2);
+    assert!((w.pdf_area(&p) / want - 1.0).abs() < 1e-14);
+    let n = 200;
+    let mut sum = 0.0;
+    for i in 0..n {
+        for j in 0..n {
+            let x = -0.5 + (i as f64 + 0.5) / n as f64;
+            let y = -0.5 + (j as f64 + 0.5) / n as f64;
+            sum += w.pdf_area(&Vec3::new(x, y, -1.0));
+        }
+    }
+    sum /= (n * n) as f64;
+    assert!((sum - 1.0).abs() < 1e-4, "{sum}");
+    // Off the rectangle: 0.
+    assert_eq!(w.pdf_area(&Vec3::new(0.7, 0.0, -1.0)), 0.0);
+    assert_eq!(w.pdf_area(&Vec3::new(0.0, 0.0, -0.9)), 0.0);
+}
+
+/// Directions and points off the shape are rejected by the inverses and
+/// have density 0.
+#[test]
+fn spherical_rectangle_outside_rejected() {
+    for (name, shape) in all_shapes() {
+        let w = build::<f64>(&shape, V::Robust).unwrap();
+        let (p, d) = w.sample_point(&0.3, &0.6);
+        assert!(w.contains(&d) && w.outside_by(&d) <= 1e-15, "{name}");
+        let away = d.neg();
+        assert!(w.inverse(&away).is_none(), "{name}");
+        assert_eq!(w.pdf(&away), 0.0, "{name}");
+        assert!(w.outside_by(&away) > 1e-3, "{name}");
+        // Beyond the edge e_x by 10 % of its length.
+        let beyond = w.corner().add(&w.edge_x().scale(&1.1)).add(&w.edge_y().scale(&0.5));
+        assert!(w.inverse_point(&beyond).is_none(), "{name}");
+        let dir = beyond.sub(w.observer());
+        assert!(w.inverse(&dir.scale(&(1.0 / dir.norm()))).is_none(), "{name}");
+        assert!(w.inverse_point(&p).is_some(), "{name}");
+        assert!(w.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_none());
+        assert!(w.inverse(&Vec3::zero()).is_none());
+        assert_eq!(w.outside_by(&Vec3::zero()), f64::MAX);
+        assert!(w.inverse_point(&Vec3::new(f64::INFINITY, 0.0, 0.0)).is_none());
+    }
+}
+
+/// A χ² binning of a rectangle: an `n × n` grid of sub-rectangles, each
+/// with its solid angle (two triangles by Van Oosterom–Strackee) as
+/// expected probability; directions are binned by where the ray from the
+/// observer hits the rectangle's plane. Independent of the map's code.
+struct RectangleBins {
+    o: Vec3<f64>,
+    s: Vec3<f64>,
+    ex: Vec3<f64>,
+    ey: Vec3<f64>,
+    n: usize,
+    prob: Vec<f64>,
+}
+
+fn vos64(a: &Vec3<f64>, b: &Vec3<f64>, c: &Vec3<f64>) -> f64 {
+    let det = a.dot(&b.cross(c)).abs();
+    let (la, lb, lc) = (a.norm(), b.norm(), c.norm());
+    2.0 * det.atan2(la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la)
+}
+
+impl RectangleBins {
+    fn new(s: Vec3<f64>, ex: Vec3<f64>, ey: Vec3<f64>, o: Vec3<f64>, n: usize) -> Self {
+        let mut prob = Vec::with_capacity(n * n);
+        let corner = |i: usize, j: usize| {
+            s.add(&ex.scale(&(i as f64 / n as f64)))
+                .add(&ey.scale(&(j as f64 / n as f64)))
+                .sub(&o)
+        };
+        for i in 0..n {
+            for j in 0..n {
+                let (a, b, c, d) = (
+                    corner(i, j),
+                    corner(i + 1, j),
+                    corner(i + 1, j + 1),
+                    corner(i, j + 1),
+                );
+                prob.push(vos64(&a, &b, &c) + vos64(&a, &c, &d));
+            }
+        }
+        let total: f64 = prob.iter().sum();
+        prob.iter_mut().for_each(|p| *p /= total);
+        RectangleBins {
+            o,
+            s,
+            ex,
+            ey,
+            n,
+            prob,
+        }
+    }
+}
+
+impl Binning for RectangleBins {
+    fn n_bins(&self) -> usize {
+        self.n * self.n
+    }
+    fn bin(&self, d: &Vec3<f64>) -> Option<usize> {
+        let normal = self.ex.cross(&self.ey);
+        let t = self.s.sub(&self.o).dot(&normal) / d.dot(&normal);
+        if !(t > 0.0) {
+            return None;
+        }
+        let q = self.o.add(&d.scale(&t)).sub(&self.s);
+        let xi = q.dot(&self.ex) / self.ex.norm_squared();
+        let eta = q.dot(&self.ey) / self.ey.norm_squared();
+        let tol = crate::harness::chi2::BIN_TOLERANCE;
+        if !((-tol..=1.0 + tol).contains(&xi) && (-tol..=1.0 + tol).contains(&eta)) {
+            return None;
+        }
+        let cell = |c: f64| ((c.clamp(0.0, 1.0) * self.n as f64) as usize).min(self.n - 1);
+        Some(cell(xi) * self.n + cell(eta))
+    }
+    fn probability(&self, i: usize) -> f64 {
+        self.prob[i]
+    }
+}
+
+#[test]
+fn spherical_rectangle_chi_square_both_variants() {
+    let shapes = ordinary_rectangles();
+    let tests = 2 * shapes.len() as u32;
+    for (name, [s, ex, ey, o]) in shapes {
+        let bins = RectangleBins::new(s.clone(), ex.clone(), ey.clone(), o.clone(), 8);
+        for variant in [V::Robust, V::Literal] {
+            let w = SphericalRectangle::new_with(s.clone(), ex.clone(), ey.clone(), o.clone(), variant)
+                .unwrap();
+            let out = run_chi_square(&w, &bins, 100_000, 7, 0.01, tests);
+            assert!(out.passed, "{name} {variant}: {out:?}");
+        }
+    }
+    // The same test rejects area-uniform points (a wrong density).
+    let [s, ex, ey, o] = ordinary_rectangles()[2].1.clone();
+    let bins = RectangleBins::new(s.clone(), ex.clone(), ey.clone(), o.clone(), 8);
+    #[derive(Clone)]
+    struct AreaUniform(SphericalRectangle<f64>);
+    impl Warp<f64> for AreaUniform {
+        type Point = Vec3<f64>;
+        fn map(&self, u: &f64, v: &f64) -> Vec3<f64> {
+            let p = self.0.corner().add(&self.0.edge_x().scale(u)).add(&self.0.edge_y().scale(v));
+            let d = p.sub(self.0.observer());
+            d.scale(&(1.0 / d.norm()))
+        }
+        fn pdf(&self, d: &Vec3<f64>) -> f64 {
+            self.0.pdf(d)
+        }
+        fn measure(&self) -> f64 {
+            self.0.measure()
+        }
+        fn inverse(&self, _d: &Vec3<f64>) -> Option<(f64, f64)> {
+            None
+        }
+        fn outside_by(&self, d: &Vec3<f64>) -> f64 {
+            self.0.outside_by(d)
+        }
+    }
+    let wrong = AreaUniform(SphericalRectangle::new(s, ex, ey, o).unwrap());
+    let out = run_chi_square(&wrong, &bins, 100_000, 7, 0.01, 1);
+    assert!(!out.passed, "{out:?}");
+}
+
+/// Samples through [`WarpSampler`](crate::sampling::WarpSampler), the
+/// crate's `rand::distr::Distribution` adapter, in f32 and f64.
+#[test]
+fn spherical_rectangle_rand_distribution() {
+    use crate::sampling::WarpSampler;
+    use rand::SeedableRng;
+    use rand::distr::Distribution;
+    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(5);
+    for (name, shape) in all_shapes() {
+        let w = build::<f64>(&shape, V::Robust).unwrap();
+        let sampler = WarpSampler::new(w.clone());
+        for d in (&sampler).sample_iter(&mut rng).take(64) {
+            assert!(w.contains(&d), "{name}: {d:?}");
+        }
+        if let Ok(w32) = build::<f32>(&shape, V::Robust) {
+            let sampler = WarpSampler::new(w32);
+            let d: Vec3<f32> = sampler.sample(&mut rng);
+            assert!(d.is_finite() && (d.norm() - 1.0).abs() < 1e-6, "{name}");
+        }
+    }
+}

@@ -1,0 +1,13 @@
+//! The studies behind `areawarp report`: each a module with a small API —
+//! a configuration with quick and default sizes, a `run` returning plain
+//! data, and writers for Markdown, CSV and figures ([`crate::figures`]).
+//!
+//! All studies are deterministic for a fixed seed whatever the number of
+//! threads: work is split into jobs with their own seeds, run on rayon's
+//! current thread pool, and reduced in job order.
+//!
+//! | study | question |
+//! |---|---|
+//! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
+
+pub mod solid_angle_of_object;
