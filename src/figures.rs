@@ -718,7 +718,15 @@ fn series_color(s: &Series, i: usize) -> Rgb {
 }
 
 /// The legend in the top-left corner of the frame.
-fn svg_legend(out: &mut String, frame: Frame, series: &[Series], lines: bool) {
+/// The legend, in the corner of the frame that covers the fewest of the
+/// `occupied` pixel positions (data points and points along lines).
+fn svg_legend(
+    out: &mut String,
+    frame: Frame,
+    series: &[Series],
+    lines: bool,
+    occupied: &[(f64, f64)],
+) {
     let entries: Vec<(usize, &Series)> = series
         .iter()
         .enumerate()
@@ -736,7 +744,25 @@ fn svg_legend(out: &mut String, frame: Frame, series: &[Series], lines: bool) {
         40.0 + 6.6 * longest as f64,
         8.0 + 16.0 * entries.len() as f64,
     );
-    let (x0, y0) = (frame.left + 8.0, frame.top + 8.0);
+    let corners = [
+        (frame.left + 8.0, frame.top + 8.0),
+        (frame.right - 8.0 - w, frame.top + 8.0),
+        (frame.left + 8.0, frame.bottom - 8.0 - h),
+        (frame.right - 8.0 - w, frame.bottom - 8.0 - h),
+    ];
+    let covered = |&(x0, y0): &(f64, f64)| {
+        occupied
+            .iter()
+            .filter(|(x, y)| {
+                *x >= x0 - 4.0 && *x <= x0 + w + 4.0 && *y >= y0 - 4.0 && *y <= y0 + h + 4.0
+            })
+            .count()
+    };
+    let (x0, y0) = corners
+        .iter()
+        .min_by_key(|c| covered(c))
+        .copied()
+        .unwrap_or(corners[0]);
     let _ = writeln!(
         out,
         "<g class=\"legend\"><rect x=\"{x0:.1}\" y=\"{y0:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999\"/>"
@@ -812,6 +838,7 @@ pub fn write_line_plot_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         true,
     );
     let mut marks = 0;
+    let mut occupied: Vec<(f64, f64)> = Vec::new();
     let _ = writeln!(
         out,
         "<clipPath id=\"plot-area\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>",
@@ -844,6 +871,16 @@ pub fn write_line_plot_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
             }
         }
         for run in runs.iter().filter(|r| !r.is_empty()) {
+            occupied.extend(run.iter().copied());
+            for pair in run.windows(2) {
+                for k in 1..16 {
+                    let t = k as f64 / 16.0;
+                    occupied.push((
+                        pair[0].0 + t * (pair[1].0 - pair[0].0),
+                        pair[0].1 + t * (pair[1].1 - pair[0].1),
+                    ));
+                }
+            }
             let pts: Vec<String> = run.iter().map(|(a, b)| format!("{a:.2},{b:.2}")).collect();
             let counted = if s.markers {
                 String::new()
@@ -869,7 +906,7 @@ pub fn write_line_plot_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         }
     }
     let _ = writeln!(out, "</g>");
-    svg_legend(&mut out, frame, &plot.series, true);
+    svg_legend(&mut out, frame, &plot.series, true, &occupied);
     out.push_str("</svg>\n");
     write_file(path, out.as_bytes(), marks, plot.width, plot.height)
 }
@@ -897,6 +934,7 @@ pub fn write_scatter_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         true,
     );
     let mut marks = 0;
+    let mut occupied: Vec<(f64, f64)> = Vec::new();
     for (i, s) in plot.series.iter().enumerate() {
         let c = series_color(s, i).hex();
         let _ = writeln!(out, "<g fill=\"{c}\">");
@@ -906,6 +944,7 @@ pub fn write_scatter_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
                 && y.contains(py)
             {
                 marks += 1;
+                occupied.push((a, b));
                 let _ = writeln!(
                     out,
                     "<circle class=\"mark\" cx=\"{a:.2}\" cy=\"{b:.2}\" r=\"{:.1}\"/>",
@@ -915,7 +954,7 @@ pub fn write_scatter_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         }
         let _ = writeln!(out, "</g>");
     }
-    svg_legend(&mut out, frame, &plot.series, false);
+    svg_legend(&mut out, frame, &plot.series, false, &occupied);
     out.push_str("</svg>\n");
     write_file(path, out.as_bytes(), marks, plot.width, plot.height)
 }

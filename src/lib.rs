@@ -18,6 +18,7 @@
 //! A renderer depends on `areawarp` with `default-features = false`: pure Rust.
 #![deny(missing_docs)]
 
+pub mod adaptive;
 pub mod error;
 pub mod estimate;
 #[cfg(feature = "studies")]

@@ -22,8 +22,8 @@ pub use recipe::SphericalRectangleRecipe;
 
 use super::turns::clamp_unit;
 use crate::error::WarpError;
-use crate::shapes::turns::positive;
 use crate::real::Real;
+use crate::shapes::turns::positive;
 use crate::vector::Vec3;
 use crate::warp::{Warp, WarpFamily};
 use geometry::Geometry;
@@ -395,9 +395,8 @@ impl<T: Real> SphericalRectangle<T> {
 
     /// The density in area on the rectangle at the point `p`:
     /// `cos θ_p / (Ω r²) = h / (Ω r³)` with `r = |p − o|` and `h` the
-    /// distance from the observer to the plane; 0 if `p` is farther than
-    /// `2^(−p/2)` (relative to the rectangle's edges) from the rectangle
-    /// ([`SphericalRectangle::inverse_point`]).
+    /// distance from the observer to the plane; 0 if `p` is not on the
+    /// rectangle (as in [`SphericalRectangle::inverse_point`]).
     pub fn pdf_area(&self, p: &Vec3<T>) -> T {
         if !self.on_rectangle(p) {
             return T::zero();
@@ -425,25 +424,16 @@ impl<T: Real> SphericalRectangle<T> {
         q.dot(&g.zhat).abs() + &out_x + &out_y
     }
 
-    /// `true` if `p` is on the rectangle within `2^(−p/2)` of its edge
-    /// lengths (in the plane, per edge) and of the sum of the edge lengths
-    /// (off it).
+    /// `true` if `p` lies within `2^(−p/2) (|s| + |e_x| + |e_y|)` of the
+    /// rectangle ([`SphericalRectangle::point_outside_by`]): the scale of the
+    /// rounding errors of a computed point `s + ξ e_x + η e_y`.
     fn on_rectangle(&self, p: &Vec3<T>) -> bool {
         if !p.is_finite() {
             return false;
         }
         let g = &self.geometry;
-        let tol = on_shape_tolerance::<T>();
-        let q = p.sub(&g.s);
-        let (xi, eta) = self.rectangle_coordinates(&q);
-        let off = q.dot(&g.zhat).abs();
-        let size = g.ex.norm() + &g.ey.norm();
-        let one = T::one();
-        xi >= -tol.clone()
-            && xi <= one.clone() + &tol
-            && eta >= -tol.clone()
-            && eta <= one + &tol
-            && off <= tol * &size
+        let scale = g.s.norm() + &g.ex.norm() + &g.ey.norm();
+        self.point_outside_by(p) <= on_shape_tolerance::<T>() * &scale
     }
 
     /// `(ξ, η) = (q·e_x/|e_x|², q·e_y/|e_y|²)` for `q = p − s`.
@@ -458,7 +448,8 @@ impl<T: Real> SphericalRectangle<T> {
     /// `(u, v)` of a point `p` on the rectangle: `u = Ω([x₀, x_p])/Ω`,
     /// `v = (h_p − h₀)/(h₁ − h₀)`, both computed without cancellation (the
     /// same for both variants). `None` if `p` is not finite or farther than
-    /// `2^(−p/2)` (relative to the edges) from the rectangle.
+    /// `2^(−p/2) (|s| + |e_x| + |e_y|)` from the rectangle
+    /// ([`SphericalRectangle::point_outside_by`]).
     pub fn inverse_point(&self, p: &Vec3<T>) -> Option<(T, T)> {
         if !self.on_rectangle(p) {
             return None;
@@ -542,11 +533,10 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
         self.direction_uv(d)
     }
 
-    /// `| |d| − 1 |` plus the largest sine of the angle by which the
-    /// normalized `d` lies outside one of the four planes through the
-    /// observer and an edge (0 on the spherical rectangle, which is the
-    /// intersection of the four half-spaces). Non-finite or zero `d`:
-    /// [`Real::max_value`].
+    /// `| |d| − 1 |` plus the Euclidean distance from the normalized `d` to
+    /// the cone of directions towards the rectangle: 0 on the spherical
+    /// rectangle, the sine of the angular distance to it up to 90°, 1
+    /// beyond. Non-finite or zero `d`: [`Real::max_value`].
     fn outside_by(&self, d: &Vec3<T>) -> T {
         let Some((a, b, c)) = self.geometry.local_direction(d) else {
             return T::max_value();

@@ -84,6 +84,11 @@ fn clamp_keep_nan<T: Real>(x: &T) -> T {
     if x.is_nan() { x.clone() } else { clamp01(x) }
 }
 
+/// `x > 0`: `false` for zero, negative values and NaN.
+fn positive<T: Real>(x: &T) -> bool {
+    *x > T::zero()
+}
+
 /// `|v|²`.
 fn norm2<T: Real>(v: &Vec3<T>) -> T {
     v.dot(v)
@@ -93,7 +98,7 @@ fn norm2<T: Real>(v: &Vec3<T>) -> T {
 /// and underflow for any finite non-zero `v`; `None` for the zero vector.
 fn unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
     let m = v.max_abs();
-    if !(m > T::zero()) || !m.is_finite() {
+    if !positive(&m) || !m.is_finite() {
         return None;
     }
     let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
@@ -119,7 +124,7 @@ fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
         e.sub(&x.scale(&(norm2(&e) / &two)))
     };
     let len = norm2(&t).sqrt();
-    if !(len > T::zero()) || !len.is_finite() {
+    if !positive(&len) || !len.is_finite() {
         return None;
     }
     Some((t.scale(&(T::one() / &len)), len))
@@ -206,28 +211,35 @@ impl<T: Real> Anchor<T> {
 ///
 /// # Robust evaluation (default)
 /// With `c = ∠AB`, α the angle at A and `h = u·Ω/2`, the arc length
-/// `b_s = ∠AC_s` satisfies (docs/spherical-triangle.md, eq. T)
+/// `b_s = ∠AC_s` satisfies (`docs/spherical-triangle.md`, eq. T)
 ///
 /// `tan(b_s/2) = (1 + cos c)·sin h / (sin c · sin(α − h))`,
 ///
 /// and `C_s = A + sin b_s·[C|A] − (1 − cos b_s)·A` with
-/// `sin b_s = 2r/(1 + r²)`, `1 − cos b_s = 2r²/(1 + r²)`, `r = tan(b_s/2)`.
-/// For `u > 1/2` the same formula is applied from C with the complementary
-/// area `(1 − u)·Ω`, so that `C_s` is always built as a small, accurate offset
-/// from the nearer vertex and `u = 1` gives exactly `C_s = C`. The constants
-/// `1 + cos c = |A + B|²/2`, `sin c·sin α = |det(A, B, C)| / sin b` and
-/// `sin c·cos α = (B − A)·[C|A]` are computed once from chords and a stable
-/// triple product; Ω = 2·atan2(|det|, 1 + A·B + B·C + C·A) (Van
-/// Oosterom–Strackee) from the *same* determinant, so that small and thin
-/// triangles keep Ω and the map consistent. The second step uses
-/// `D = C_s − B`, `E = C_s + B` (orthogonal, `|D| = 2 sin(a_s/2)`,
-/// `|E| = 2 cos(a_s/2)`):
+/// `sin b_s = 2r/(1 + r²)`, `1 − cos b_s = r·sin b_s`, `r = tan(b_s/2)`:
+/// no `√(1 − q²)` of a cosine near 1. For `u > 1/2` the same formula is
+/// applied from C with the complementary area `(1 − u)·Ω`, so that `C_s` is
+/// always a small, accurate offset from the nearer vertex and `u = 1` gives
+/// exactly `C_s = C`. The constants `1 + cos c = |A + B|²/2`,
+/// `sin c·sin α = |det(A, B, C)| / sin b` and `sin c·cos α = (B − A)·[C|A]`
+/// are computed once from chords and a stable triple product, and
+/// Ω = 2·atan2(|det|, 1 + A·B + B·C + C·A) (Van Oosterom–Strackee) from the
+/// *same* determinant, so that Ω and the map stay consistent.
 ///
-/// `P = B + √v·c_p·(C·D + S²·E/C) − 2v·S²·B`,
-/// `S = |D|/2`, `C = |E|/2`, `c_p = √(C² + (1 − v)·S²) = cos(∠BP/2)`,
+/// The direction W of the arc B C_s at B comes from the sub-triangle's angle
+/// β_s at B (eq. B: `(sin β_s, cos β_s) ∝ (sin h sin(α − h),
+/// sin α sin²(c/2) − sin h cos(α − h))`), not from the chord `C_s − B`, whose
+/// direction is ill-determined when C_s is nearly antipodal to B (nearly
+/// hemispherical triangles), and the point uses half-angle sines from chord
+/// lengths, `sin²(a_s/2) = |C_s − B|²/4`, `cos²(a_s/2) = |C_s + B|²/4`,
+/// `sin²(θ/2) = v·sin²(a_s/2)` (θ = ∠BP):
 ///
-/// which uses no `√(1 − x²)` of a cosine near ±1 and gives `P = B` exactly at
-/// `v = 0`. Cost: one `sin_cos`, three square roots, two divisions.
+/// - `v ≤ 1/2`: `P = B + sin θ·W − (1 − cos θ)·B` (exactly B at v = 0);
+/// - `v > 1/2`: `P = C_s + 2 sin²(a_s/2)(1 − v)·B + (sin θ − sin a_s)·W`
+///   (exactly C_s at v = 1, so the corners (0, 1), (1, 1) are A and C).
+///
+/// A final Newton step scales |P| to |B| (no square root). Cost per sample:
+/// one `sin_cos`, one or two square roots, two divisions, no allocation.
 ///
 /// # Non-degeneracy
 /// [`SphericalTriangle::new`] rejects vertices that are not finite or zero,
@@ -362,7 +374,7 @@ impl<T: Real> SphericalTriangle<T> {
                 what: "vertices on one great circle (or collinear)",
             });
         }
-        let positive = det > zero;
+        let ccw = det > zero;
         let abs_det = det.abs();
 
         let on_arc = WarpError::Degenerate {
@@ -378,12 +390,12 @@ impl<T: Real> SphericalTriangle<T> {
         let den = k1a.clone() + &c.dot(&a_plus_b);
         let omega = abs_det.atan2(&den) * &two;
         let inv_omega = one.clone() / &omega;
-        if !(omega > zero) || !inv_omega.is_finite() || !(d > zero) || !d.is_finite() {
+        if !positive(&omega) || !inv_omega.is_finite() || !positive(&d) || !d.is_finite() {
             return Err(WarpError::Degenerate {
                 what: "solid angle underflows",
             });
         }
-        let sign = if positive { one.clone() } else { -one.clone() };
+        let sign = if ccw { one.clone() } else { -one.clone() };
         let inward = |v: &Vec3<T>, e: &Vec3<T>| unit(&v.cross(e).scale(&sign));
         let normals_degenerate = WarpError::Degenerate {
             what: "edge plane undefined",
@@ -412,7 +424,7 @@ impl<T: Real> SphericalTriangle<T> {
             n_ab,
             n_bc,
             n_ca,
-            positive,
+            positive: ccw,
             literal,
             a,
             b,
@@ -513,9 +525,11 @@ impl<T: Real> SphericalTriangle<T> {
             (&self.from_c, (one.clone() - &u) * &self.half_omega)
         };
         let (sh, ch) = h.sin_cos();
-        // Step 1: tan(b_s/2) = n/m (eq. T divided by d), and the angle β_s
-        // at B between the arcs B V and B C_s (eq. B):
-        // (sin β_s, cos β_s) ∝ (nb, cb) = (sin h·m, 1 − sin h (k cos h + d sin h)/(d sin²(c/2)))/sin²(c/2)…
+        // Step 1 (V = anchor vertex, c = ∠VB, α = angle at V, d, k as in the
+        // type's docs): tan(b_s/2) = n/m with n = (1 + cos c) sin h / d and
+        // m = cos h − (k/d) sin h = sin(α − h)/sin α (eq. T divided by d).
+        // The angle β_s at B between the arcs B V and B C_s (eq. B):
+        // (sin β_s, cos β_s) ∝ (nb, cb) = (sin h·m, 1 − sin h (k cos h + d sin h)/d)/sin²(c/2).
         let n = anchor.k1_d.clone() * &sh;
         let m = ch.clone() - &(anchor.k_d.clone() * &sh);
         let nb = sh.clone() * &m * &anchor.inv_s2;
@@ -548,44 +562,34 @@ impl<T: Real> SphericalTriangle<T> {
                 .sub(&self.b.scale(&(sp2 * &two)));
             self.b.add(&offset)
         } else {
-            // From the other end: φ = a_s − θ = ∠C_sP,
-            // sin(φ/2) = sin(a_s/2 − θ/2) = sin²(a_s/2)(1 − v) / K,
-            // K = sin(a_s/2 + θ/2) = sin(a_s/2) cos(θ/2) + cos(a_s/2) sin(θ/2),
-            // P = C_s + sin φ·W_C − (1 − cos φ)·C_s with W_C = sin a_s·B − cos a_s·W
-            // the unit tangent at C_s towards B. cos²(a_s/2) = |C_s + B|²/4,
-            // accurate also when C_s ≈ −B.
-            let one_minus_v = one - &v;
+            // From the other end: with C_s = cos a_s·B + sin a_s·W,
+            // P = C_s + (cos θ − cos a_s)·B + (sin θ − sin a_s)·W, where
+            // cos θ − cos a_s = 2 sin²(a_s/2)(1 − v) exactly and
+            // sin θ − sin a_s = 2(sin(θ/2) cos(θ/2) − sin(a_s/2) cos(a_s/2)):
+            // both vanish at v = 1 (P = C_s, so (0, 1) ↦ A and (1, 1) ↦ C),
+            // and are small, with small absolute errors, near it.
+            // cos²(a_s/2) = |C_s + B|²/4 keeps its accuracy when C_s ≈ −B.
             let c2 = norm2(&delta.add(&anchor.v_plus_b)) / T::from_i64(4);
-            let sa = s2.sqrt();
-            let ca = c2.sqrt();
-            let sp = v.sqrt() * &sa;
-            let cp = (c2.clone() + &(one_minus_v.clone() * &s2)).sqrt();
-            let nd = nd2.sqrt();
-            let _ = &inv_nd2;
-            let k = sa.clone() * &cp + &(ca.clone() * &sp);
-            let ch_phi = ca.clone() * &cp + &(sa.clone() * &sp);
-            // r = sin(φ/2) / |(nb, cb)|.
-            let r = s2.clone() * &one_minus_v / &(k * &nd);
-            let sh_phi = r.clone() * &nd;
-            let sin_phi = sh_phi.clone() * &ch_phi * &two;
-            let one_minus_cos_phi = sh_phi.square() * &two;
-            // sin φ·cos a_s / |(nb, cb)|, cos a_s = cos²(a_s/2) − sin²(a_s/2).
-            let w_coef = r * &ch_phi * &two * &(c2 - &s2);
+            let cp2 = c2.clone() + &((one.clone() - &v) * &s2);
+            // sin(θ/2) cos(θ/2) and sin(a_s/2) cos(a_s/2), over |(nb, cb)|.
+            let half_sin_theta = (v.clone() * &s2 * &cp2 * &inv_nd2).sqrt();
+            let half_sin_a = (s2.clone() * &c2 * &inv_nd2).sqrt();
+            let w_coef = (half_sin_theta - &half_sin_a) * &two;
+            let b_coef = s2 * &(one - &v) * &two;
             let c_s = anchor.vertex.add(&delta);
             let offset = self
                 .b
-                .scale(&(sin_phi * &sa * &ca * &two))
-                .sub(&anchor.t_b.scale(&(w_coef.clone() * &cb)))
-                .sub(&anchor.n_b.scale(&(w_coef * &nb)))
-                .sub(&c_s.scale(&one_minus_cos_phi));
+                .scale(&b_coef)
+                .add(&anchor.t_b.scale(&(w_coef.clone() * &cb)))
+                .add(&anchor.n_b.scale(&(w_coef * &nb)));
             c_s.add(&offset)
         };
         // |P| = 1 + O(u): one Newton step towards |P| = |B| (|B| = 1 up to
         // the rounding of the stored vertex), P·(1 + (|B|² − |P|²)/2), brings
         // the norm to within about one unit of roundoff without a square root
         // and leaves P = B (v = 0) untouched.
-        if cfg!(feature = "stnorm") { let x = norm2(&p);
-        p.scale(&(T::one() + &((self.b_norm2.clone() - &x) / &two))) } else { p }
+        let x = norm2(&p);
+        p.scale(&(T::one() + &((self.b_norm2.clone() - &x) / &two)))
     }
 
     /// ψ(u, v) by the [`Literal`](SphericalTriangleVariant::Literal)
@@ -618,7 +622,7 @@ impl<T: Real> SphericalTriangle<T> {
             y = -y;
         }
         let r = x.hypot(&y);
-        if !(r > T::zero()) || !r.is_finite() {
+        if !positive(&r) || !r.is_finite() {
             return None;
         }
         // tan(θ/2) = y/(r + x) = (r − x)/y, whichever does not cancel.

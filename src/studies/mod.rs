@@ -9,5 +9,11 @@
 //! | study | question |
 //! |---|---|
 //! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
+//! | [`variance`] | Ureña, Fajardo & King 2013, Fig. 4/7: relative RMS error vs spp of area, triangle-pair, spherical-rectangle and projected-polygon sampling of a standing rectangular light, with and without MIS; samples at equal error |
 
+#[cfg(feature = "mpfr")]
+pub mod precision;
 pub mod solid_angle_of_object;
+#[cfg(feature = "mpfr")]
+pub mod speed;
+pub mod variance;

@@ -1011,9 +1011,8 @@ impl SolidAngleConfig {
     /// A quick run (a second or two in `--release` on 2 cores): `n` up to
     /// 4096, 12 repetitions, a 64 × 64 error map.
     ///
-    /// # Panics
-    /// Never: the default scenes are valid (an invalid one would leave the
-    /// scene list empty, which [`run`] rejects).
+    /// The scenes are [`default_scenes`] (valid by construction; were one
+    /// not, the list would be empty and [`run`] would reject it).
     pub fn quick() -> Self {
         SolidAngleConfig {
             seed: 0x5EED_5A0B,
@@ -1031,7 +1030,7 @@ impl SolidAngleConfig {
 }
 
 impl Default for SolidAngleConfig {
-    /// The report's size (≈ 10 s in `--release` on 2 cores): `n` from 4 to
+    /// The report's size (≈ 11 s in `--release` on 2 cores): `n` from 4 to
     /// 65536, 32 repetitions, a 128 × 128 error map with 2 × 2 points per
     /// cell, 100 000 world samples per axis mode.
     fn default() -> Self {
@@ -1726,18 +1725,6 @@ pub fn run(config: &SolidAngleConfig) -> Result<SolidAngleStudy, WarpError> {
 // Output
 // ---------------------------------------------------------------------------
 
-/// The file names [`SolidAngleStudy::write_figures`] writes, in order.
-pub const FIGURE_FILES: [&str; 8] = [
-    "solid_angle_samples.svg",
-    "solid_angle_f32_error_uv.svg",
-    "solid_angle_f32_error_uv.png",
-    "solid_angle_f32_evaluation_uv.svg",
-    "solid_angle_f32_pole_profile.svg",
-    "solid_angle_f32_world_fixed.svg",
-    "solid_angle_f32_world_random.svg",
-    "solid_angle_error_vs_n_<scene>.svg (one per scene)",
-];
-
 /// A decimal string cut to `digits` significant characters, keeping its
 /// exponent.
 fn short_decimal(s: &str, digits: usize) -> String {
@@ -1774,6 +1761,27 @@ impl SolidAngleStudy {
         self.rows
             .iter()
             .find(|r| r.scene == scene && r.method == name && r.n == n)
+    }
+
+    /// The file names [`SolidAngleStudy::write_figures`] writes, in order.
+    pub fn figure_files(&self) -> Vec<String> {
+        let mut v: Vec<String> = [
+            "solid_angle_samples.svg",
+            "solid_angle_f32_error_uv.svg",
+            "solid_angle_f32_error_uv.png",
+            "solid_angle_f32_evaluation_uv.svg",
+            "solid_angle_f32_pole_profile.svg",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for a in &self.axis_spread {
+            v.push(format!("solid_angle_f32_world_{}.svg", a.axis));
+        }
+        for sc in &self.scenes {
+            v.push(format!("solid_angle_error_vs_n_{}.svg", sc.name));
+        }
+        v
     }
 
     /// `rms(a) / rms(b)` on `scene` at the largest `n` where both were
@@ -2775,6 +2783,11 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("areawarp-solid-angle-{}", std::process::id()));
         let figs = study.write_figures(&dir).unwrap();
         assert_eq!(figs.len(), 7 + study.scenes.len());
+        let names: Vec<String> = figs
+            .iter()
+            .map(|f| f.path.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, study.figure_files());
         for f in &figs {
             let check = figures::verify_figure(&f.path).unwrap();
             assert!(f.marks > 0 && f.bytes > 500, "{f:?}");

@@ -406,27 +406,22 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             };
             let o = &lune_edges[outer_j].1;
             let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
-            let mut dr0 = [o.side[0].r0.clone(), o.side[1].r0.clone()];
+            let mut shared = [false, false];
             if let Some(i) = inner {
                 let e = &lune_edges[i].1;
                 for (si, meridian) in [(0usize, k), (1, (k + 1) % m)] {
                     let (os, es) = (&o.side[si], &e.side[si]);
                     let a = o.nz.clone() * &es.g0 - &(e.nz.clone() * &os.g0);
                     let b = o.nz.clone() * &es.k0 - &(e.nz.clone() * &os.k0);
-                    if share_at(lune_edges[i].0, lune_edges[outer_j].0, meridian) {
-                        d[si] = (zero.clone(), b);
-                        dr0[si] = zero.clone();
-                    } else {
-                        d[si] = (a, b);
-                        dr0[si] = os.r0.clone() - &es.r0;
-                    }
+                    shared[si] = share_at(lune_edges[i].0, lune_edges[outer_j].0, meridian);
+                    d[si] = (if shared[si] { zero.clone() } else { a }, b);
                 }
             }
             pairs.push(Pair {
                 inner: inner.map(|i| first_edge + i),
                 outer: first_edge + outer_j,
                 d,
-                dr0,
+                shared,
             });
             j = outer_j + 1;
         }

@@ -108,8 +108,9 @@ pub(super) struct Pair<T> {
     /// `D = n_z,o g_i − n_z,i g_o = A c + B s` from each side (A exactly 0
     /// where the two edges meet at that side's meridian).
     pub d: [(T, T); 2],
-    /// r_o − r_i at each side's meridian (exactly 0 at a shared vertex).
-    pub dr0: [T; 2],
+    /// Whether the two edges meet at each side's meridian (an extremal
+    /// vertex of the polygon: the interval closes there).
+    pub shared: [bool; 2],
 }
 
 /// An azimuth interval `[start, start + width]` with no vertex inside.
@@ -204,13 +205,7 @@ impl<T: Real> Lune<T> {
             Some(i) => {
                 let e = &edges[i];
                 let (g_i, den_i) = e.g(side, c, s);
-                let (a, b) = &pair.d[side as usize];
-                // r_o² − r_i² = D E / (den_o den_i), D = n_o g_i − n_i g_o,
-                // E = n_o g_i + n_i g_o: no cancellation where D → 0 at a
-                // shared vertex (A = 0 exactly there).
-                let d = a.clone() * c + &(b.clone() * s);
-                let ee = o.nz.clone() * &g_i + &(e.nz.clone() * &g_o);
-                let len = (d * &ee / &(den_o * &den_i)).max(&T::zero());
+                let len = self.pair_len(o, e, pair, side, (&g_o, &den_o), (&g_i, &den_i), c, s);
                 Interval {
                     r_in: e.nz2.clone() / &den_i,
                     z_in: g_i.square() / &den_i,
@@ -223,40 +218,66 @@ impl<T: Real> Lune<T> {
     }
 
     /// 2 × the projected area between the side's meridian and side
-    /// coordinate x, as the sum over the edges of the polar triangles
-    /// `r₀ r(x) sin x` plus the elliptic segments `|n_z| (α − sin α)`
-    /// (signed by n_z), with the triangles of each interval grouped so that
-    /// the area of a thin interval next to a shared vertex keeps its
-    /// relative accuracy.
+    /// coordinate x: Σ n_z α over the edges (Lambert, eq. 1.53). For an
+    /// interval whose two edges meet at the side's meridian (an extremal
+    /// vertex) the two terms cancel to O(x²); there (for sin x < 1/4) each sector
+    /// `|n_z| α` is split into the polar triangle `r₀ r(x) sin x` and the
+    /// elliptic segment `|n_z| (α − sin α)`, the triangles of the two edges
+    /// are combined exactly (`r_o − r_i = L / (r_o + r_i)`), and the small
+    /// area keeps its relative accuracy.
     pub fn swept(&self, edges: &[LuneEdge<T>], pairs: &[Pair<T>], side: Side, c: &T, s: &T) -> T {
+        let mut sum = T::zero();
         let mut tri = T::zero();
-        let mut seg = T::zero();
         let si = side as usize;
         for p in self.pairs(pairs) {
             let o = &edges[p.outer];
-            let iv = self.interval(edges, p, side, c, s);
-            let (g_o, _) = o.g(side, c, s);
-            seg += &(alpha_minus_sin(&o.alpha(side, &g_o, c, s)) * &o.abs_nz);
-            let r_o = iv.r_out.sqrt();
-            match p.inner {
-                None => tri += &(o.side[si].r0.clone() * &r_o),
-                Some(i) => {
-                    let e = &edges[i];
-                    let (g_i, _) = e.g(side, c, s);
-                    seg -= &(alpha_minus_sin(&e.alpha(side, &g_i, c, s)) * &e.abs_nz);
-                    let r_i = iv.r_in.sqrt();
-                    let sum = r_o.clone() + &r_i;
-                    let diff = if sum > T::zero() {
-                        iv.len.clone() / &sum
-                    } else {
-                        T::zero()
-                    };
-                    // r_o0 r_o − r_i0 r_i = r_o0 (r_o − r_i) + r_i (r_o0 − r_i0).
-                    tri += &(o.side[si].r0.clone() * &diff + &(r_i * &p.dr0[si]));
-                }
+            let (g_o, den_o) = o.g(side, c, s);
+            let a_o = o.alpha(side, &g_o, c, s);
+            let Some(i) = p.inner else {
+                sum += &(a_o * &o.nz);
+                continue;
+            };
+            let e = &edges[i];
+            let (g_i, den_i) = e.g(side, c, s);
+            let a_i = e.alpha(side, &g_i, c, s);
+            // Far from the vertex (sin x ≥ 1/4) the cancellation costs a few
+            // units of roundoff at most: the plain sum is accurate enough.
+            if !p.shared[si] || *s >= T::from_ratio(1, 4) {
+                sum += &(a_o * &o.nz + &(a_i * &e.nz));
+                continue;
+            }
+            sum += &(alpha_minus_sin(&a_o) * &o.abs_nz - &(alpha_minus_sin(&a_i) * &e.abs_nz));
+            let len = self.pair_len(o, e, p, side, (&g_o, &den_o), (&g_i, &den_i), c, s);
+            let r_o = (o.nz2.clone() / &den_o).sqrt();
+            let r_i = (e.nz2.clone() / &den_i).sqrt();
+            let r_sum = r_o + &r_i;
+            if r_sum > T::zero() {
+                tri += &(o.side[si].r0.clone() * &(len / &r_sum));
             }
         }
-        tri * s + &seg
+        sum + &(tri * s)
+    }
+
+    /// r_o² − r_i² = D E / (den_o den_i), with D = n_o g_i − n_i g_o =
+    /// A cos x + B sin x and E = n_o g_i + n_i g_o: no cancellation where
+    /// D → 0 at a shared vertex (A = 0 exactly there).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn pair_len(
+        &self,
+        o: &LuneEdge<T>,
+        e: &LuneEdge<T>,
+        p: &Pair<T>,
+        side: Side,
+        (g_o, den_o): (&T, &T),
+        (g_i, den_i): (&T, &T),
+        c: &T,
+        s: &T,
+    ) -> T {
+        let (a, b) = &p.d[side as usize];
+        let d = a.clone() * c + &(b.clone() * s);
+        let ee = o.nz.clone() * g_i + &(e.nz.clone() * g_o);
+        (d * &ee / &(den_o.clone() * den_i)).max(&T::zero())
     }
 
     /// The total length, in r², of the polygon's intervals on the meridian:

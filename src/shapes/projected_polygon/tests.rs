@@ -892,3 +892,46 @@ mod mpfr {
         trade_rows::<f32>(&names, 1024);
     }
 }
+
+/// Time per sample of each inversion setting, interleaved rounds, minimum
+/// over rounds (robust on a loaded machine); test build.
+#[test]
+#[ignore]
+fn projected_polygon_timing() {
+    let pts = random_points(4096, 99);
+    for (name, light) in lights().into_iter().take(5) {
+        let base = warp_of(&light, MarginalInversion::Newton);
+        let ws: Vec<_> = [
+            MarginalInversion::Cubic,
+            MarginalInversion::CubicNewton(1),
+            MarginalInversion::CubicNewton(2),
+            MarginalInversion::CubicNewton(3),
+            MarginalInversion::Newton,
+        ]
+        .iter()
+        .map(|&i| (base.clone().with_inversion(i), base.at::<f32>().unwrap().with_inversion(i)))
+        .collect();
+        let mut best = vec![[f64::INFINITY; 2]; ws.len()];
+        for _ in 0..15 {
+            for (k, (w64, w32)) in ws.iter().enumerate() {
+                let t = std::time::Instant::now();
+                let mut acc = 0.0;
+                for &(u, v) in &pts {
+                    acc += w64.map(&u, &v).z;
+                }
+                std::hint::black_box(acc);
+                best[k][0] = best[k][0].min(t.elapsed().as_nanos() as f64 / pts.len() as f64);
+                let t = std::time::Instant::now();
+                let mut acc = 0.0f32;
+                for &(u, v) in &pts {
+                    acc += w32.map(&(u as f32), &(v as f32)).z;
+                }
+                std::hint::black_box(acc);
+                best[k][1] = best[k][1].min(t.elapsed().as_nanos() as f64 / pts.len() as f64);
+            }
+        }
+        println!("{name}: ns/sample f64 [cubic, +1, +2, +3, newton] = {:?}; f32 = {:?}",
+            best.iter().map(|b| b[0].round()).collect::<Vec<_>>(),
+            best.iter().map(|b| b[1].round()).collect::<Vec<_>>());
+    }
+}

@@ -4,8 +4,8 @@
 //! the origin), scaled by a power of two to be O(1).
 
 use crate::error::WarpError;
-use crate::shapes::turns::positive;
 use crate::real::Real;
+use crate::shapes::turns::positive;
 use crate::vector::Vec3;
 
 /// How far from perpendicular the edges may be, in units of roundoff of the

@@ -28,7 +28,12 @@ fn axes() -> [Vec3<f64>; 3] {
 /// `[s, e_x, e_y, o]`.
 fn placed(lx: f64, ly: f64, fx: f64, fy: f64, h: f64) -> [Vec3<f64>; 4] {
     let [a, b, _] = axes();
-    [world(0.0, 0.0, 0.0), a.scale(&lx), b.scale(&ly), world(fx, fy, h)]
+    [
+        world(0.0, 0.0, 0.0),
+        a.scale(&lx),
+        b.scale(&ly),
+        world(fx, fy, h),
+    ]
 }
 
 /// The ladder of hard rectangles of issue 4, as `(label, [s, e_x, e_y, o])`

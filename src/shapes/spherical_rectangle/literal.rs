@@ -123,7 +123,11 @@ impl<T: Real> Literal<T> {
         // 1. compute 'cu'
         let au = u.clone() * &self.s + &self.k;
         let fu = (au.cos() * &self.b0 - &self.b1) / &au.sin();
-        let sign = if fu > T::zero() { one.clone() } else { -one.clone() };
+        let sign = if fu > T::zero() {
+            one.clone()
+        } else {
+            -one.clone()
+        };
         let cu = one.clone() / &(fu.square() + &self.b0sq).sqrt() * &sign;
         let cu = cu.clamp(&-one.clone(), &one); // avoid NaNs
         // 2. compute 'xu'

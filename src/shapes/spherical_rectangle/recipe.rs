@@ -4,9 +4,9 @@
 
 use super::geometry::Geometry;
 use crate::error::WarpError;
-use crate::shapes::turns::positive;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
+use crate::shapes::turns::positive;
 use crate::vector::Vec3;
 
 /// The recipe specification of
@@ -232,7 +232,8 @@ impl<T: Real> MarginalConditional<T> for SphericalRectangleRecipe<T> {
         let sin_phi = phi_u.sin();
         // c₀² + c₁² − 2c₀c₁ cos Φ (Appendix A), as (c₁ − c₀)² + 4c₀c₁ sin²(Φ/2).
         let half = (phi_u * &T::from_ratio(1, 2)).sin();
-        let den = ((c1.clone() - &c0).square() + &(T::from_i64(4) * &c0 * &c1 * &half.square())).sqrt();
+        let den =
+            ((c1.clone() - &c0).square() + &(T::from_i64(4) * &c0 * &c1 * &half.square())).sqrt();
         let a = sin_phi / &den;
         let x = h.clone() * &a / &(T::one() - &a.square()).sqrt();
         Some((x - &g.x0) / &g.lx)

@@ -100,14 +100,16 @@ pub(super) struct Robust<T> {
     k_x: T,
     col0: Column<T>,
     col1: Column<T>,
-    /// `1/√(x₀² + h²)`, `1/√(x₁² + h²)`, `1/ℓ₀`, `1/ℓ₁` (for `outside_by`).
-    inv_d0: T,
-    inv_d1: T,
-    inv_l0: T,
-    inv_l1: T,
     omega: T,
     half_omega: T,
     anchors: [Anchor<T>; 2],
+    /// Inward unit normals of the faces x₀, x₁, y₀, y₁ of the cone spanned
+    /// by the rectangle (local vectors `(x, y, z)`, rectangle at `z = −h`).
+    normals: [[T; 3]; 4],
+    /// `n_x₀·n_y₀`, `n_x₀·n_y₁`, `n_x₁·n_y₀`, `n_x₁·n_y₁`.
+    normal_dots: [T; 4],
+    /// The unit corner directions.
+    corners: [[T; 3]; 4],
 }
 
 /// The lengths a column needs.
@@ -129,14 +131,12 @@ fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
     let l0l1 = k.l0.clone() * k.l1;
     let (one_m_w, one_p_w) = if *x > T::zero() {
         // N − xσ = ℓ₁(r₀ − x) + ℓ₀(r₁ − x), rⱼ − x = ℓⱼ²/(rⱼ + x).
-        let c = l0l1
-            * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x)))
-            / &n;
+        let c =
+            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / &n;
         (c, one + &w)
     } else if *x < T::zero() {
-        let c = l0l1
-            * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x)))
-            / &n;
+        let c =
+            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / &n;
         (one - &w, c)
     } else {
         (one.clone(), one)
@@ -194,13 +194,38 @@ impl<T: Real> Robust<T> {
         let sd2 = sd.square();
         let cd2 = cd.square();
 
+        let unit = |v: [T; 3]| -> [T; 3] {
+            let n = v[0].hypot(&v[1]).hypot(&v[2]);
+            v.map(|c| c / &n)
+        };
+        let zero = T::zero();
+        let normals = [
+            unit([h.clone(), zero.clone(), x0.clone()]),
+            unit([-h.clone(), zero.clone(), -x1.clone()]),
+            unit([zero.clone(), h.clone(), y0.clone()]),
+            unit([zero.clone(), -h.clone(), -y1.clone()]),
+        ];
+        let ndot = |p: &[T; 3], q: &[T; 3]| {
+            p[0].clone() * &q[0] + &(p[1].clone() * &q[1]) + &(p[2].clone() * &q[2])
+        };
+        let normal_dots = [
+            ndot(&normals[0], &normals[2]),
+            ndot(&normals[0], &normals[3]),
+            ndot(&normals[1], &normals[2]),
+            ndot(&normals[1], &normals[3]),
+        ];
+        let corners = [
+            unit([x0.clone(), y0.clone(), -h.clone()]),
+            unit([x1.clone(), y0.clone(), -h.clone()]),
+            unit([x1.clone(), y1.clone(), -h.clone()]),
+            unit([x0.clone(), y1.clone(), -h.clone()]),
+        ];
         let mut r = Robust {
+            normals,
+            normal_dots,
+            corners,
             inv_lx: one.clone() / &lx,
             inv_ly: one.clone() / &ly,
-            inv_d0: one.clone() / &x0.hypot(&h),
-            inv_d1: one.clone() / &x1.hypot(&h),
-            inv_l0: one.clone() / &l0,
-            inv_l1: one.clone() / &l1,
             y_sum: y1.clone() + &y0,
             y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
             k_x: two.clone() * &l0 * &l1 * &sdcd,
@@ -259,10 +284,8 @@ impl<T: Real> Robust<T> {
         let zero = T::zero();
         if (*xa > zero && *xb > zero) || (*xa < zero && *xb < zero) {
             // x_b rⱼ(x_a) − x_a rⱼ(x_b) = ℓⱼ² (x_b − x_a)(x_b + x_a) / (x_b rⱼ(x_a) + x_a rⱼ(x_b)).
-            let t = self.l1.clone() * &self.l0sq
-                / &(xb.clone() * &ca.r0 + &(xa.clone() * &cb.r0))
-                + &(self.l0.clone() * &self.l1sq
-                    / &(xb.clone() * &ca.r1 + &(xa.clone() * &cb.r1)));
+            let t = self.l1.clone() * &self.l0sq / &(xb.clone() * &ca.r0 + &(xa.clone() * &cb.r0))
+                + &(self.l0.clone() * &self.l1sq / &(xb.clone() * &ca.r1 + &(xa.clone() * &cb.r1)));
             self.sigma.clone() * len * &(xb.clone() + xa) * &t / &(ca.n.clone() * &cb.n)
         } else {
             cb.w.clone() - &ca.w
@@ -425,25 +448,59 @@ impl<T: Real> Robust<T> {
         [x, ax, bx, y, ay, by]
     }
 
-    /// How far the unit local direction `(a, b, c)` lies outside the
-    /// spherical rectangle: the largest sine of the angle by which it
-    /// violates one of the four bounding planes through the observer, 0
-    /// inside.
+    /// How far the unit local direction `(a, b, c)` (`c = −w·ẑ`, positive
+    /// towards the plane) lies outside the spherical rectangle: the
+    /// Euclidean distance from `ŵ` to the cone K spanned by the rectangle
+    /// (the sine of the angular distance below 90°, 1 beyond), 0 inside.
+    ///
+    /// The nearest point of K is the apex, or on one of the four edge rays
+    /// (the corner directions kⱼ: `|ŵ − (ŵ·kⱼ) kⱼ|` when `ŵ·kⱼ > 0`), or in
+    /// the relative interior of a face with inward normal nᵢ violated by ŵ
+    /// (distance `−nᵢ·ŵ`, valid when the projection `ŵ − (nᵢ·ŵ) nᵢ` satisfies
+    /// the two adjacent faces): the distance is the least of the valid
+    /// candidates. Exact for every direction, including those opposite to a
+    /// small or grazing rectangle, where every bounding plane passes close
+    /// by and no single half-space gives the distance.
     pub fn outside_local(&self, a: &T, b: &T, c: &T) -> T {
-        let h = &self.h;
-        let g = [
-            (h.clone() * a - &(self.x0.clone() * c)) * &self.inv_d0,
-            (self.x1.clone() * c - &(h.clone() * a)) * &self.inv_d1,
-            (h.clone() * b - &(self.y0.clone() * c)) * &self.inv_l0,
-            (self.y1.clone() * c - &(h.clone() * b)) * &self.inv_l1,
-        ];
-        let mut worst = T::zero();
-        for gi in g {
-            if -gi.clone() > worst {
-                worst = -gi;
+        let zero = T::zero();
+        let z = -c.clone();
+        let w = [a.clone(), b.clone(), z];
+        let dot =
+            |n: &[T; 3]| n[0].clone() * &w[0] + &(n[1].clone() * &w[1]) + &(n[2].clone() * &w[2]);
+        // Faces in the order x₀, x₁, y₀, y₁.
+        let g: [T; 4] = core::array::from_fn(|i| dot(&self.normals[i]));
+        if g.iter().all(|gi| *gi >= zero) {
+            return zero;
+        }
+        let mut best = T::one();
+        for i in 0..4 {
+            if g[i] >= zero {
+                continue;
+            }
+            // The adjacent faces of an x-face are the y-faces and vice versa:
+            // nⱼ·(ŵ − gᵢ nᵢ) = gⱼ − gᵢ (nᵢ·nⱼ).
+            let adjacent = if i < 2 { [2, 3] } else { [0, 1] };
+            let on_face = adjacent.iter().all(|&j| {
+                let nij = &self.normal_dots[i.min(j) * 2 + (i.max(j) - 2)];
+                g[j].clone() - &(g[i].clone() * nij) >= zero
+            });
+            if on_face && -g[i].clone() < best {
+                best = -g[i].clone();
             }
         }
-        worst
+        for k in &self.corners {
+            let t = dot(k);
+            if t > zero {
+                let d = ((w[0].clone() - &(t.clone() * &k[0])).square()
+                    + &(w[1].clone() - &(t.clone() * &k[1])).square()
+                    + &(w[2].clone() - &(t * &k[2])).square())
+                    .sqrt();
+                if d < best {
+                    best = d;
+                }
+            }
+        }
+        best
     }
 }
 
@@ -455,8 +512,7 @@ fn row_diff<T: Real>(ya: &T, ra: &T, yb: &T, rb: &T, len: &T, d2: &T) -> T {
         return zero;
     }
     if (*ya >= zero && *yb >= zero) || (*ya <= zero && *yb <= zero) {
-        d2.clone() * len * &(yb.clone() + ya)
-            / &((yb.clone() * ra + &(ya.clone() * rb)) * ra * rb)
+        d2.clone() * len * &(yb.clone() + ya) / &((yb.clone() * ra + &(ya.clone() * rb)) * ra * rb)
     } else {
         yb.clone() / rb - &(ya.clone() / ra)
     }

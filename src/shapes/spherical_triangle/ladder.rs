@@ -7,7 +7,10 @@ use crate::vector::Vec3;
 fn frame() -> (Vec3<f64>, Vec3<f64>, Vec3<f64>) {
     // 0.36² + 0.48² + 0.8² = 1.
     let n = Vec3::new(0.36, -0.48, 0.8);
-    let t1 = n.cross(&Vec3::new(0.0, 0.0, 1.0)).normalized().unwrap_or(Vec3::new(1.0, 0.0, 0.0));
+    let t1 = n
+        .cross(&Vec3::new(0.0, 0.0, 1.0))
+        .normalized()
+        .unwrap_or(Vec3::new(1.0, 0.0, 0.0));
     let t2 = n.cross(&t1);
     (n, t1, t2)
 }
@@ -18,12 +21,18 @@ fn at(theta: f64, phi: f64) -> Vec3<f64> {
     let (n, t1, t2) = frame();
     let (st, ct) = theta.sin_cos();
     let (sp, cp) = phi.sin_cos();
-    n.scale(&ct).add(&t1.scale(&(st * cp)).add(&t2.scale(&(st * sp))))
+    n.scale(&ct)
+        .add(&t1.scale(&(st * cp)).add(&t2.scale(&(st * sp))))
 }
 
 /// The three cyclic rotations of the vertex roles: `(x, y, z)` as
 /// `(A, B, C)`, `(z, x, y)` and `(y, z, x)`, so that `x` is at A, B, C in turn.
-fn rotations(name: &str, x: Vec3<f64>, y: Vec3<f64>, z: Vec3<f64>) -> Vec<(String, [Vec3<f64>; 3])> {
+fn rotations(
+    name: &str,
+    x: Vec3<f64>,
+    y: Vec3<f64>,
+    z: Vec3<f64>,
+) -> Vec<(String, [Vec3<f64>; 3])> {
     vec![
         (format!("{name}@A"), [x.clone(), y.clone(), z.clone()]),
         (format!("{name}@B"), [z.clone(), x.clone(), y.clone()]),
@@ -55,7 +64,11 @@ fn near_hemisphere(eps: f64) -> [Vec3<f64>; 3] {
     }
     let theta = std::f64::consts::FRAC_PI_2 - x.asin();
     let third = 2.0 * std::f64::consts::PI / 3.0;
-    [at(theta, 0.25), at(theta, 0.25 + third), at(theta, 0.25 + 2.0 * third)]
+    [
+        at(theta, 0.25),
+        at(theta, 0.25 + third),
+        at(theta, 0.25 + 2.0 * third),
+    ]
 }
 
 /// The ladder of hard spherical triangles of issue 4, as vertex directions
@@ -91,8 +104,18 @@ pub fn hard_triangles() -> Vec<(String, [Vec3<f64>; 3])> {
     ] {
         out.push((name.to_string(), small(omega)));
     }
-    out.extend(rotations("sliver", at(0.0, 0.0), at(1.0, 0.3), at(0.8, 0.3 + 1e-6)));
-    out.extend(rotations("needle", at(0.0, 0.0), at(1e-3, 0.7), at(0.9e-3, 0.7 + 1e-6)));
+    out.extend(rotations(
+        "sliver",
+        at(0.0, 0.0),
+        at(1.0, 0.3),
+        at(0.8, 0.3 + 1e-6),
+    ));
+    out.extend(rotations(
+        "needle",
+        at(0.0, 0.0),
+        at(1e-3, 0.7),
+        at(0.9e-3, 0.7 + 1e-6),
+    ));
     let half_pi = std::f64::consts::FRAC_PI_2;
     // Apex 1e-6 off the midpoint (the frame's axis) of a 90° arc.
     out.extend(rotations(

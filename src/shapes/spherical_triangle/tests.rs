@@ -80,7 +80,12 @@ fn constructor_rejects_bad_input() {
     );
     // ... but 1e-12 rad off it is a valid (nearly hemispherical) triangle,
     // and so is a triangle of 1e-12 sr.
-    let hemi = new(&x, &Vec3::new(-0.5, 0.8, 1e-12), &Vec3::new(-0.5, -0.8, 1e-12)).unwrap();
+    let hemi = new(
+        &x,
+        &Vec3::new(-0.5, 0.8, 1e-12),
+        &Vec3::new(-0.5, -0.8, 1e-12),
+    )
+    .unwrap();
     assert!(2.0 * core::f64::consts::PI - hemi.solid_angle() < 1e-10);
     let tiny = new(
         &Vec3::new(1.0, 0.0, 0.0),
@@ -115,8 +120,13 @@ fn from_points_and_variants() {
     assert_eq!(t.b(), &Vec3::new(0.0, 1.0, 0.0));
     assert!(t.is_counter_clockwise());
     assert_eq!(
-        SphericalTriangle::from_points(o.clone(), o.add(&Vec3::new(1.0, 0.0, 0.0)), Vec3::zero(), o)
-            .unwrap_err(),
+        SphericalTriangle::from_points(
+            o.clone(),
+            o.add(&Vec3::new(1.0, 0.0, 0.0)),
+            Vec3::zero(),
+            o
+        )
+        .unwrap_err(),
         WarpError::Degenerate {
             what: "zero vertex direction"
         }
@@ -308,7 +318,9 @@ mod mpfr {
                     k[i / 3][i % 3] = M::from_f64(step(k[i / 3][i % 3].to_f64()));
                     let v = |j: usize| Vec3::new(k[j][0].clone(), k[j][1].clone(), k[j][2].clone());
                     let o = SphericalTriangle::new(v(0), v(1), v(2)).unwrap();
-                    let rel = ((o.solid_angle().clone() - exact.solid_angle()) / exact.solid_angle()).abs();
+                    let rel = ((o.solid_angle().clone() - exact.solid_angle())
+                        / exact.solid_angle())
+                    .abs();
                     kappa = kappa.max(&rel);
                 }
             }
@@ -348,11 +360,17 @@ mod mpfr {
             }
             // The composed inverse (chart + F, G) agrees with the direct one
             // at interior points.
-            for (u, v) in [(M::from_ratio(1, 3), M::from_ratio(2, 3)), (M::from_ratio(3, 4), M::from_ratio(1, 5))] {
+            for (u, v) in [
+                (M::from_ratio(1, 3), M::from_ratio(2, 3)),
+                (M::from_ratio(3, 4), M::from_ratio(1, 5)),
+            ] {
                 let p = t.map(&u, &v);
                 let (u1, v1) = t.inverse_robust(&p).unwrap();
                 let (u2, v2) = spec.inverse(&p).unwrap();
-                assert!((u1.clone() - &u).abs() <= tol && (u2 - &u).abs() <= tol, "{name}");
+                assert!(
+                    (u1.clone() - &u).abs() <= tol && (u2 - &u).abs() <= tol,
+                    "{name}"
+                );
                 assert!((v1 - &v).abs() <= tol && (v2 - &v).abs() <= tol, "{name}");
             }
         }
@@ -362,12 +380,22 @@ mod mpfr {
     fn recipe_steps_are_consistent() {
         use crate::recipe::{AreaDensity, MarginalConditional, Parametrization};
         let tol = M::exp2i(-230);
-        for (name, shape) in ordinary_triangles().into_iter().chain(hard_triangles().into_iter().step_by(3)) {
+        for (name, shape) in ordinary_triangles()
+            .into_iter()
+            .chain(hard_triangles().into_iter().step_by(3))
+        {
             let r = tri(&shape).unwrap().at::<M>().unwrap().recipe();
             let m = r.measure();
             assert_eq!(r.marginal_cdf(&M::zero()), M::zero());
-            assert!((r.marginal_cdf(&M::one()) - &M::one()).abs() <= tol, "{name}");
-            for s in [M::from_ratio(1, 7), M::from_ratio(1, 2), M::from_ratio(9, 10)] {
+            assert!(
+                (r.marginal_cdf(&M::one()) - &M::one()).abs() <= tol,
+                "{name}"
+            );
+            for s in [
+                M::from_ratio(1, 7),
+                M::from_ratio(1, 2),
+                M::from_ratio(9, 10),
+            ] {
                 for tt in [M::from_ratio(1, 5), M::from_ratio(2, 3)] {
                     // σ's closed form equals ‖φ_s × φ_t‖ from dual numbers.
                     let [_, ps, pt] = r.partials(&s, &tt);
@@ -402,7 +430,10 @@ mod mpfr {
             // The chart inverts φ.
             let (s, tt) = (M::from_ratio(2, 5), M::from_ratio(3, 7));
             let (s2, t2) = r.chart(&r.phi(&s, &tt)).unwrap();
-            assert!((s2 - &s).abs() <= M::exp2i(-200) && (t2 - &tt).abs() <= M::exp2i(-200), "{name}");
+            assert!(
+                (s2 - &s).abs() <= M::exp2i(-200) && (t2 - &tt).abs() <= M::exp2i(-200),
+                "{name}"
+            );
         }
     }
 
@@ -449,7 +480,10 @@ mod mpfr {
     /// the 256-bit map of the shape as `T` sees it, with κ from one-ulp
     /// perturbations of the 9 vertex coordinates (as stored in `T`), u and v;
     /// `None` if `T` rejects the shape.
-    pub(super) fn measure<T: Real>(shape: &[Vec3<f64>; 3], points: &[(f64, f64)]) -> Option<[Figures; 2]> {
+    pub(super) fn measure<T: Real>(
+        shape: &[Vec3<f64>; 3],
+        points: &[(f64, f64)],
+    ) -> Option<[Figures; 2]> {
         let format = if T::precision() == 24 {
             InputFormat::F32
         } else {
@@ -518,7 +552,12 @@ mod mpfr {
     /// The exact inverse's sensitivity to rounding the direction to f64:
     /// the largest move of the 256-bit inverse, from `(u, v)`, over the
     /// rounded point and its one-ulp neighbours in each coordinate.
-    pub(super) fn inverse_floor(exact: &SphericalTriangle<M>, p: &Vec3<f64>, u: f64, v: f64) -> f64 {
+    pub(super) fn inverse_floor(
+        exact: &SphericalTriangle<M>,
+        p: &Vec3<f64>,
+        u: f64,
+        v: f64,
+    ) -> f64 {
         let inv = |q: &Vec3<f64>| {
             let q: Vec3<M> = q.convert();
             exact.inverse_robust(&super::unit(&q).unwrap()).unwrap()
@@ -541,7 +580,11 @@ mod mpfr {
 
     /// Round trip in f64: worst |(u, v) − ψ⁻¹(ψ(u, v))| and the same
     /// divided by max(2^-53, floor), over points with v ≥ `v_min`.
-    pub(super) fn roundtrip(shape: &[Vec3<f64>; 3], variant: SphericalTriangleVariant, v_min: f64) -> (f64, (f64, f64), f64, usize) {
+    pub(super) fn roundtrip(
+        shape: &[Vec3<f64>; 3],
+        variant: SphericalTriangleVariant,
+        v_min: f64,
+    ) -> (f64, (f64, f64), f64, usize) {
         let t = tri(shape).unwrap().with_variant(variant);
         let exact = t.at::<M>().unwrap();
         let (mut worst, mut at, mut ratio, mut fails) = (0.0f64, (0.0, 0.0), 0.0f64, 0);
@@ -572,7 +615,10 @@ mod mpfr {
             // under rounding the direction to f64) everywhere except on the
             // edge v = 0 (all of it maps to B), and v = 2^-60 next to it.
             let (_, _, ratio_away, _) = roundtrip(&shape, Rob, 1e-12);
-            assert!(ratio_away <= 16.0, "{name}: {ratio_away} (worst {worst:e} at {at:?}, {ratio})");
+            assert!(
+                ratio_away <= 16.0,
+                "{name}: {ratio_away} (worst {worst:e} at {at:?}, {ratio})"
+            );
         }
         // 1e-12 absolute where the floor allows it: the ordinary triangles,
         // 1e-2 sr and 2π − 1e-2 sr, away from the edge v = 0. (The thin and
@@ -581,7 +627,14 @@ mod mpfr {
         // f64 does not determine (u, v) better; the first loop holds them to
         // 16× their floor.)
         for (name, shape) in all_shapes() {
-            let ok = ["octant", "generic", "clockwise", "large obtuse", "area 1e-2", "hemi 2pi-1e-2"];
+            let ok = [
+                "octant",
+                "generic",
+                "clockwise",
+                "large obtuse",
+                "area 1e-2",
+                "hemi 2pi-1e-2",
+            ];
             if ok.contains(&name.as_str()) {
                 let (worst, at, _, _) = roundtrip(&shape, Rob, 1e-6);
                 assert!(worst <= 1e-12, "{name}: {worst:e} at {at:?}");
@@ -605,17 +658,26 @@ mod mpfr {
         impl Lattice {
             fn node(t: &SphericalTriangle<f64>, n: usize, i: usize, j: usize) -> Vec3<f64> {
                 let (b, c) = (i as f64 / n as f64, j as f64 / n as f64);
-                t.a().scale(&(1.0 - b - c)).add(&t.b().scale(&b)).add(&t.c().scale(&c))
+                t.a()
+                    .scale(&(1.0 - b - c))
+                    .add(&t.b().scale(&b))
+                    .add(&t.c().scale(&c))
             }
             fn new(t: SphericalTriangle<f64>, n: usize) -> Self {
                 let mut prob = vec![0.0; 2 * n * n];
                 for i in 0..n {
                     for j in 0..n - i {
                         let node = |a, b| Self::node(&t, n, a, b);
-                        let up = SphericalTriangle::new(node(i, j), node(i + 1, j), node(i, j + 1)).unwrap();
+                        let up = SphericalTriangle::new(node(i, j), node(i + 1, j), node(i, j + 1))
+                            .unwrap();
                         prob[2 * (i * n + j)] = up.solid_angle() / t.solid_angle();
                         if i + j + 1 < n {
-                            let down = SphericalTriangle::new(node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)).unwrap();
+                            let down = SphericalTriangle::new(
+                                node(i + 1, j),
+                                node(i + 1, j + 1),
+                                node(i, j + 1),
+                            )
+                            .unwrap();
                             prob[2 * (i * n + j) + 1] = down.solid_angle() / t.solid_angle();
                         }
                     }
@@ -657,7 +719,14 @@ mod mpfr {
             let t = tri(shape).unwrap();
             let bins = Lattice::new(t.clone(), 8);
             for (k, variant) in [Rob, Lit].into_iter().enumerate() {
-                let out = run_chi_square(&t.clone().with_variant(variant), &bins, 100_000, 11 + k as u64, 0.01, tests);
+                let out = run_chi_square(
+                    &t.clone().with_variant(variant),
+                    &bins,
+                    100_000,
+                    11 + k as u64,
+                    0.01,
+                    tests,
+                );
                 assert!(out.passed, "{name} {variant}: {out:?}");
             }
         }
@@ -683,7 +752,14 @@ mod mpfr {
             }
         }
         let t = tri(&shapes[1].1).unwrap();
-        let out = run_chi_square(&Skewed(t.clone()), &Lattice::new(t, 8), 100_000, 5, 0.01, tests);
+        let out = run_chi_square(
+            &Skewed(t.clone()),
+            &Lattice::new(t, 8),
+            100_000,
+            5,
+            0.01,
+            tests,
+        );
         assert!(!out.passed);
     }
 
@@ -692,10 +768,23 @@ mod mpfr {
     fn report_accuracy_table() {
         let pts = points();
         for (prec, name) in [(53, "f64"), (24, "f32")] {
-            println!("\n== {name}: error / (16·max(u, κ)), max error, κ at the worst point, NaN, outside (> 4u), max outside / u ==");
+            println!(
+                "\n== {name}: error / (16·max(u, κ)), max error, κ at the worst point, NaN, outside (> 4u), max outside / u =="
+            );
             println!(
                 "{:<14} {:>10} | {:>9} {:>9} {:>9} {:>4} {:>4} {:>6} | {:>9} {:>9} {:>4} {:>4}",
-                "shape", "omega", "R err/bd", "R maxerr", "kappa", "NaN", "out", "out/u", "L err/bd", "L maxerr", "NaN", "out"
+                "shape",
+                "omega",
+                "R err/bd",
+                "R maxerr",
+                "kappa",
+                "NaN",
+                "out",
+                "out/u",
+                "L err/bd",
+                "L maxerr",
+                "NaN",
+                "out"
             );
             for (label, shape) in all_shapes() {
                 let omega = tri(&shape).map(|t| *t.solid_angle()).unwrap_or(f64::NAN);
@@ -708,23 +797,39 @@ mod mpfr {
                     None => println!("{label:<14} {omega:>10.3e} | rejected in {name}"),
                     Some([r, l]) => println!(
                         "{label:<14} {omega:>10.3e} | {:>9.3e} {:>9.2e} {:>9.2e} {:>4} {:>4} {:>6.2} | {:>9.2e} {:>9.2e} {:>4} {:>4}",
-                        r.ratio, r.max_err, r.kappa, r.nan, r.outside, r.max_outside_ulps, l.ratio, l.max_err, l.nan, l.outside
+                        r.ratio,
+                        r.max_err,
+                        r.kappa,
+                        r.nan,
+                        r.outside,
+                        r.max_outside_ulps,
+                        l.ratio,
+                        l.max_err,
+                        l.nan,
+                        l.outside
                     ),
                 }
             }
         }
-        println!("\n== f64 round trip: worst |Δ| over all points (at), worst / inherent floor, failures; then v ≥ 1e-6 ==");
+        println!(
+            "\n== f64 round trip: worst |Δ| over all points (at), worst / inherent floor, failures; then v ≥ 1e-6 =="
+        );
         for (label, shape) in all_shapes() {
             for variant in [Rob, Lit] {
                 let (w, at, ratio, fails) = roundtrip(&shape, variant, 0.0);
                 let (w6, at6, _, _) = roundtrip(&shape, variant, 1e-6);
-                println!("{label:<14} {variant:<7} all: {w:>9.2e} at {at:?} ratio {ratio:>9.2e} fails {fails:>2} | v≥1e-6: {w6:>9.2e} at {at6:?}");
+                println!(
+                    "{label:<14} {variant:<7} all: {w:>9.2e} at {at:?} ratio {ratio:>9.2e} fails {fails:>2} | v≥1e-6: {w6:>9.2e} at {at6:?}"
+                );
             }
         }
         println!("\n== Jacobian at 256 bits (robust, extremes grid) ==");
         for (label, shape) in all_shapes() {
             let r = check_jacobian(&tri(&shape).unwrap(), &extremes_grid()).unwrap();
-            println!("{label:<14} max |J·pdf − 1| = {:.2e} (nudged {}, non-finite {})", r.max_rel_deviation, r.nudged, r.non_finite);
+            println!(
+                "{label:<14} max |J·pdf − 1| = {:.2e} (nudged {}, non-finite {})",
+                r.max_rel_deviation, r.nudged, r.non_finite
+            );
         }
     }
 }
@@ -764,7 +869,6 @@ mod props {
     }
 }
 
-
 #[test]
 #[ignore = "timing: per-sample cost of both variants (use criterion for real figures)"]
 fn timing_robust_vs_literal() {
@@ -796,17 +900,24 @@ fn timing_robust_vs_literal() {
         let lo: Vec<(f64, f64)> = pts64.iter().map(|&(u, v)| (u, v * 0.5)).collect();
         let hi: Vec<(f64, f64)> = pts64.iter().map(|&(u, v)| (u, 0.5 + v * 0.5)).collect();
         let mut sorted = pts64.clone();
-        sorted.sort_by(|a, b| (a.0 > 0.5, a.1 > 0.5).cmp(&(b.0 > 0.5, b.1 > 0.5)));
+        sorted.sort_by_key(|a| (a.0 > 0.5, a.1 > 0.5));
         let (mut blo, mut bhi, mut bs) = (f64::MAX, f64::MAX, f64::MAX);
         for _ in 0..40 {
             blo = blo.min(run(&t, &lo));
             bhi = bhi.min(run(&t, &hi));
             bs = bs.min(run(&t, &sorted));
         }
-        println!("   v<=1/2 {blo:.1} ns, v>1/2 {bhi:.1} ns, sorted (predictable branches) {bs:.1} ns");
+        println!(
+            "   v<=1/2 {blo:.1} ns, v>1/2 {bhi:.1} ns, sorted (predictable branches) {bs:.1} ns"
+        );
         println!(
             "{name:<14} f64 robust {:.1} ns literal {:.1} ns ratio {:.2} | f32 robust {:.1} ns literal {:.1} ns ratio {:.2}",
-            best[0], best[1], best[0] / best[1], best[2], best[3], best[2] / best[3]
+            best[0],
+            best[1],
+            best[0] / best[1],
+            best[2],
+            best[3],
+            best[2] / best[3]
         );
     }
 }
