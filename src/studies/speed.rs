@@ -35,7 +35,7 @@ use crate::estimate::run_jobs;
 use crate::figures::{Axis, Figure, Plot, Series, write_line_plot_svg};
 use crate::harness::extremes::{extremes_grid, random_points};
 use crate::real::{Mpfr, Mpfr128, Mpfr256, Real, convert};
-use crate::vector::Vec3;
+use crate::vector::{Coords, Vec3};
 use crate::warp::{Warp, WarpFamily};
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -916,6 +916,28 @@ mod tests {
         assert_eq!(rows.lines().count(), s.rows.len() + 1);
         std::fs::remove_dir_all(&dir).ok();
         assert!(run(&SpeedConfig { batch: 0, ..SpeedConfig::quick() }).is_err());
+    }
+
+    /// The default sizes of both studies, timed, with their Markdown
+    /// printed and files written to `target/studies-report`:
+    /// `cargo test --release --lib studies::speed::tests::default_sizes -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn default_sizes() {
+        use crate::studies::precision;
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/studies-report");
+        let t0 = Instant::now();
+        let p = precision::run(&precision::PrecisionConfig::default()).unwrap();
+        let tp = t0.elapsed().as_secs_f64();
+        let t1 = Instant::now();
+        let s = run(&SpeedConfig::default()).unwrap();
+        let ts = t1.elapsed().as_secs_f64();
+        println!("{}\n{}", p.to_markdown(), s.to_markdown());
+        p.write_csv(&dir).unwrap();
+        p.write_figures(&dir).unwrap();
+        s.write_csv(&dir).unwrap();
+        s.write_figures(&dir).unwrap();
+        println!("precision: {tp:.1} s, speed: {ts:.1} s");
     }
 
     #[test]

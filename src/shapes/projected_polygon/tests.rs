@@ -292,6 +292,45 @@ fn projected_polygon_measure_matches_lambert_and_quadrature() {
     }
 }
 
+/// A non-planar polygon: a band ±10° about the horizon over three quarters
+/// of a turn. Clipped, it keeps its upper half, whose boundary follows the
+/// horizon for 270° (more than half a turn, split into pieces). Π against
+/// Lambert's formula on the hand-clipped polygon (upper row, then the
+/// horizon back in 45° steps).
+#[test]
+fn projected_polygon_band_along_the_horizon() {
+    let el = 10f64.to_radians();
+    let dir = |az_deg: f64, el: f64| {
+        let a = az_deg.to_radians();
+        Vec3::new(el.cos() * a.cos(), el.cos() * a.sin(), el.sin())
+    };
+    let upper: Vec<_> = (0..=6).map(|i| dir(45.0 * i as f64, el)).collect();
+    let lower: Vec<_> = (0..=6).rev().map(|i| dir(45.0 * i as f64, -el)).collect();
+    let band: Vec<_> = upper.iter().chain(lower.iter()).cloned().collect();
+    let clipped: Vec<_> = upper
+        .iter()
+        .cloned()
+        .chain((0..=6).rev().map(|i| dir(45.0 * i as f64, 0.0)))
+        .collect();
+    let lambert = projected_solid_angle(&clipped, &Vec3::new(0.0, 0.0, 1.0)).abs();
+    for inv in SETTINGS {
+        let w = ProjectedPolygon::new_with(&band, inv).unwrap();
+        assert!((w.measure() - lambert).abs() < 1e-14, "{} {lambert}", w.measure());
+        assert!(w.solid_angle() < 2.0 * PI);
+        finite_on_shape("band", &w);
+        finite_on_shape("band", &w.at::<f32>().unwrap());
+    }
+    let w = ProjectedPolygon::new(&band).unwrap();
+    let rt = check_roundtrip::<f64, _>(&w, &random_points(300, 8)).unwrap();
+    assert!(rt.failures == 0 && rt.median_error < 1e-12, "{rt:?}");
+    for (u, v) in random_points(300, 9) {
+        let p = w.map(&u, &v);
+        assert!(p.z >= 0.0 && p.z <= el.sin() + 1e-15);
+        let az = p.y.atan2(p.x).rem_euclid(2.0 * PI);
+        assert!(az <= 1.5 * PI + 1e-12, "{az}");
+    }
+}
+
 #[test]
 fn projected_polygon_pdf_and_roundtrip() {
     for (name, light) in lights() {
@@ -933,5 +972,23 @@ fn projected_polygon_timing() {
         println!("{name}: ns/sample f64 [cubic, +1, +2, +3, newton] = {:?}; f32 = {:?}",
             best.iter().map(|b| b[0].round()).collect::<Vec<_>>(),
             best.iter().map(|b| b[1].round()).collect::<Vec<_>>());
+    }
+}
+
+#[test]
+fn zz_band_debug() {
+    let el = 10f64.to_radians();
+    let dir = |az_deg: f64, el: f64| {
+        let a = az_deg.to_radians();
+        Vec3::new(el.cos() * a.cos(), el.cos() * a.sin(), el.sin())
+    };
+    let upper: Vec<_> = (0..=6).map(|i| dir(45.0 * i as f64, el)).collect();
+    let lower: Vec<_> = (0..=6).rev().map(|i| dir(45.0 * i as f64, -el)).collect();
+    let band: Vec<_> = upper.iter().chain(lower.iter()).cloned().collect();
+    println!("oriented {}", crate::shapes::polygon_measures::oriented_solid_angle(&band));
+    let (v, om) = super::build::prepare(&band).unwrap();
+    println!("omega {om}");
+    for a in super::build::clip(&v).unwrap() {
+        println!("arc az {:.1} el {:.3} -> az {:.1} el {:.3} nz {:.3}", a.a.y.atan2(a.a.x).to_degrees(), a.a.z, a.b.y.atan2(a.b.x).to_degrees(), a.b.z, a.n.z);
     }
 }

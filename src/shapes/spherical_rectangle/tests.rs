@@ -294,7 +294,6 @@ mod accuracy {
     pub(super) struct Row {
         pub name: String,
         pub omega: f64,
-        pub points: usize,
         /// Shape rejected in this precision (e.g. the observer rounds into the plane).
         pub rejected: bool,
         /// max error of the direction / of the point, in units of u_T.
@@ -333,7 +332,6 @@ mod accuracy {
     ) -> Row {
         let mut row = Row {
             name: name.to_string(),
-            points: points.len(),
             ..Row::default()
         };
         let Ok(wt) = build::<T>(shape, variant) else {
@@ -981,7 +979,7 @@ impl Binning for RectangleBins {
     fn bin(&self, d: &Vec3<f64>) -> Option<usize> {
         let normal = self.ex.cross(&self.ey);
         let t = self.s.sub(&self.o).dot(&normal) / d.dot(&normal);
-        if !(t > 0.0) {
+        if t.is_nan() || t <= 0.0 {
             return None;
         }
         let q = self.o.add(&d.scale(&t)).sub(&self.s);
