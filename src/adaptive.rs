@@ -1255,7 +1255,7 @@ impl AdaptiveTriangle {
         if !(d.z >= 0.0) {
             return 0.0;
         }
-        let Some(i) = self.roots.iter().position(|r| r.tri.contains(&d)) else {
+        let Some(i) = self.roots.iter().position(|r| inside(r, &d)) else {
             return 0.0;
         };
         let mut prob = self.root_shares[i];
@@ -1311,12 +1311,39 @@ impl Kids<'_> {
     }
 }
 
-/// The child of `kids` containing the unit direction `d` (the middle one
-/// if no corner does) and its σ⊥ share.
+/// `det(e1, e2, p) = p · (e1 × e2)`: the side of the great circle through
+/// `e1`, `e2` that `p` is on.
+fn side(e1: &Vec3<f64>, e2: &Vec3<f64>, p: &Vec3<f64>) -> f64 {
+    p.dot(&e1.cross(e2))
+}
+
+/// `true` if the unit direction `d` is in the spherical triangle of `node`
+/// (boundary included), by the signs of the three edge determinants.
+fn inside(node: &Node, d: &Vec3<f64>) -> bool {
+    let (a, b, c) = (node.tri.a(), node.tri.b(), node.tri.c());
+    let s = if node.tri.is_counter_clockwise() { 1.0 } else { -1.0 };
+    s * side(a, b, d) >= 0.0 && s * side(b, c, d) >= 0.0 && s * side(c, a, d) >= 0.0
+}
+
+/// The child of `kids` containing the unit direction `d` (a direction of
+/// the parent) and its σ⊥ share: corner child `i` if `d` is strictly on its
+/// corner's side of its inner edge (the arc between the two midpoints),
+/// else the middle child.
 fn locate(kids: &[Node; 4], d: &Vec3<f64>) -> (usize, f64) {
     let mut p = [0.0; 4];
     shares(kids, &mut p);
-    let j = (0..3).find(|&j| kids[j].tri.contains(d)).unwrap_or(3);
+    let corner = |i: usize| {
+        let t = &kids[i].tri;
+        let (x, e1, e2) = match i {
+            0 => (t.a(), t.b(), t.c()),
+            1 => (t.b(), t.c(), t.a()),
+            _ => (t.c(), t.a(), t.b()),
+        };
+        let sd = side(e1, e2, d);
+        let sx = side(e1, e2, x);
+        (sd > 0.0 && sx > 0.0) || (sd < 0.0 && sx < 0.0)
+    };
+    let j = (0..3).find(|&i| corner(i)).unwrap_or(3);
     (j, p[j])
 }
 

@@ -71,9 +71,10 @@ pub fn triangle_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T
 /// `v_0 → v_1 → … → v_0` (see the module docs), in `(0, 4π)` for a simple
 /// polygon; the other side of the boundary has `4π − Ω`.
 ///
-/// Computed as the fan Σ_i Ω(v_0, v_i, v_{i+1}) of signed triangles
-/// ([`triangle_solid_angle`], accurate also for tiny polygons), which is
-/// the answer modulo 4π; the multiple of 4π is taken from the Gauss–Bonnet
+/// Computed as the fan Σ_i Ω(v_a, v_i, v_{i+1}) of signed triangles
+/// ([`triangle_solid_angle`], accurate also for tiny polygons) from the
+/// vertex v_a farthest from all antipodes of vertices, which is the answer
+/// modulo 4π; the multiple of 4π is taken from the Gauss–Bonnet
 /// theorem, Ω = 2π − Σ τ_i with τ_i the signed turning angle at vertex i
 /// (accurate to far better than 4π, but not to the relative accuracy of a
 /// small Ω, which is 2π minus a sum of angles). A vertex where the boundary
@@ -109,9 +110,23 @@ pub fn oriented_solid_angle<T: Real>(vertices: &[Vec3<T>]) -> T {
         turning += &sin_part.atan2(&cos_part);
     }
     let gauss_bonnet = two_pi.clone() - &turning;
+    // The fan's apex: the vertex farthest from every vertex's antipode (a
+    // diagonal to an antipodal vertex would be undefined).
+    let mut apex = 0;
+    let mut best: Option<T> = None;
+    for (j, a) in v.iter().enumerate() {
+        let worst = v
+            .iter()
+            .map(|b| T::one() + &a.dot(b))
+            .fold(T::max_value(), |m, x| m.min(&x));
+        if best.as_ref().is_none_or(|b| worst > *b) {
+            best = Some(worst);
+            apex = j;
+        }
+    }
     let mut fan = T::zero();
-    for i in 1..n - 1 {
-        fan += &triangle_solid_angle(&v[0], &v[i], &v[i + 1]);
+    for i in 0..n {
+        fan += &triangle_solid_angle(&v[apex], &v[i], &v[(i + 1) % n]);
     }
     let four_pi = two_pi * &T::from_i64(2);
     let k = ((gauss_bonnet - &fan) / &four_pi + &T::from_ratio(1, 2)).floor();
@@ -276,6 +291,41 @@ mod tests {
         assert!((s / omega - 1.0).abs() < 1e-6, "{s} {omega}");
         let p = projected_solid_angle(&sq, &v(0.0, 0.0, 1.0)).abs();
         assert!((p / (omega / d) - 1.0).abs() < 1e-6, "{p}");
+    }
+
+    /// A band ±10° about the equator over 270° of azimuth: vertex 0 is
+    /// antipodal to one of the lower vertices (a fan from it would fail).
+    /// Against the area integrated in azimuth between the great arcs.
+    #[test]
+    fn polygon_measures_band_with_antipodal_vertices() {
+        let el = 10f64.to_radians();
+        let dir = |az: f64, e: f64| {
+            let a = az.to_radians();
+            v(e.cos() * a.cos(), e.cos() * a.sin(), e.sin())
+        };
+        let mut band: Vec<_> = (0..=6).map(|i| dir(45.0 * i as f64, el)).collect();
+        band.extend((0..=6).rev().map(|i| dir(45.0 * i as f64, -el)));
+        assert!((band[0].dot(&band[9]) + 1.0).abs() < 1e-15);
+        // ∫ (sin el_top − sin el_bottom) dφ, el of a great arc at azimuth φ
+        // from its normal: tan el = −(n_x cos φ + n_y sin φ) / n_z.
+        let mut want = 0.0;
+        for k in 0..6 {
+            let (a, b) = (dir(45.0 * k as f64, el), dir(45.0 * (k + 1) as f64, el));
+            let n = a.cross(&b);
+            let m = 2000;
+            let h = PI / 4.0 / m as f64;
+            for j in 0..m {
+                let phi = (45.0 * k as f64).to_radians() + (j as f64 + 0.5) * h;
+                let t = -(n.x * phi.cos() + n.y * phi.sin()) / n.z;
+                // Both rows are mirror images: twice the upper half.
+                want += 2.0 * h * (t / (1.0 + t * t).sqrt());
+            }
+        }
+        let o = oriented_solid_angle(&band);
+        assert!((o - (4.0 * PI - want)).abs() < 1e-6, "{o} {want}");
+        assert!((solid_angle(&band) - want).abs() < 1e-6);
+        band.reverse();
+        assert!((oriented_solid_angle(&band) - want).abs() < 1e-6);
     }
 
     #[test]

@@ -380,7 +380,7 @@ fn timings<T: Real, W: StudyWarp>(
 /// errors of building a catalogue shape (none for the shipped shapes).
 pub fn run(config: &SpeedConfig) -> Result<SpeedStudy, WarpError> {
     config.validate()?;
-    let shapes = catalogue(config.max_shapes)?;
+    let shapes = catalogue(config.max_shapes, None)?;
     let mut points = extremes_grid();
     points.extend(random_points(config.error_random_points, config.seed));
 

@@ -45,6 +45,30 @@ pub(super) struct Geometry<T> {
     pub h: T,
 }
 
+/// `√(Σ xᵢ²)` by one square root when the sum of squares is neither tiny
+/// nor huge, else by scaling with the largest magnitude first (no spurious
+/// overflow or underflow). Cheaper than two `hypot` calls.
+pub(super) fn length<T: Real>(v: &[T]) -> T {
+    let sum = v.iter().fold(T::zero(), |acc, x| acc + &x.square());
+    let tiny = T::unit_roundoff().powi(4);
+    if sum > tiny && sum.is_finite() {
+        return sum.sqrt();
+    }
+    let m = v.iter().fold(T::zero(), |acc, x| acc.max(&x.abs()));
+    if !positive(&m) || !m.is_finite() {
+        return m;
+    }
+    let scaled = v
+        .iter()
+        .fold(T::zero(), |acc, x| acc + &(x.clone() / &m).square());
+    scaled.sqrt() * &m
+}
+
+/// `|v|` by [`length`].
+pub(super) fn norm<T: Real>(v: &Vec3<T>) -> T {
+    length(&[v.x.clone(), v.y.clone(), v.z.clone()])
+}
+
 fn non_finite(what: &'static str) -> WarpError {
     WarpError::NonFinite { what }
 }
@@ -76,14 +100,14 @@ impl<T: Real> Geometry<T> {
             return Err(non_finite("observer o"));
         }
         let one = T::one();
-        let lx_world = ex.norm();
+        let lx_world = norm(&ex);
         if !positive(&lx_world) {
             return Err(degenerate("zero-length edge ex"));
         }
         if !lx_world.is_finite() {
             return Err(non_finite("length of edge ex"));
         }
-        let ey_len = ey.norm();
+        let ey_len = norm(&ey);
         if !positive(&ey_len) {
             return Err(degenerate("zero-length edge ey"));
         }
@@ -101,7 +125,7 @@ impl<T: Real> Geometry<T> {
             });
         }
         let ey_perp = ey.sub(&xhat.scale(&along));
-        let ly_world = ey_perp.norm();
+        let ly_world = norm(&ey_perp);
         let yhat = ey_perp.scale(&(one / &ly_world));
         let zplus = xhat.cross(&yhat);
         let d = s.sub(&o);

@@ -19,7 +19,7 @@
 //! a precomputed anchor (the nearer end of `[x₀, x₁]`) and `sin_cos(τ/2)` by
 //! the addition theorems.
 
-use super::geometry::Geometry;
+use super::geometry::{Geometry, length};
 use crate::real::Real;
 
 /// ω and its complements at one column `x`.
@@ -167,8 +167,8 @@ impl<T: Real> Robust<T> {
         let x1 = x0.clone() + &lx;
         let y1 = y0.clone() + &ly;
         let h2 = h.square();
-        let l0 = y0.hypot(&h);
-        let l1 = y1.hypot(&h);
+        let l0 = length(&[y0.clone(), h.clone()]);
+        let l1 = length(&[y1.clone(), h.clone()]);
         let l0sq = y0.square() + &h2;
         let l1sq = y1.square() + &h2;
         let sigma = l0.clone() + &l1;
@@ -182,23 +182,42 @@ impl<T: Real> Robust<T> {
         let col0 = column(&x0, &lengths);
         let col1 = column(&x1, &lengths);
 
-        // Δ = θ₁ − θ₀ with tan θⱼ = yⱼ/h: relative accuracy when Δ is small
-        // (then y₀y₁ > 0 and the denominator is a sum). cos(Δ/2) from the
-        // complementary angles tⱼ = π/2 ∓ θⱼ, exact when Δ ≈ π.
-        let delta = (h.clone() * &ly).atan2(&(h2.clone() + &(y0.clone() * &y1)));
-        let t0 = h.atan2(&(-y0.clone()));
-        let t1 = h.atan2(&y1);
-        let sd = (delta * &half).sin();
-        let cd = ((t0 + &t1) * &half).sin();
+        // S_d = sin(Δ/2), C_d = cos(Δ/2) with Δ/2 = ψ₁ − ψ₀, ψⱼ = θⱼ/2,
+        // tan θⱼ = yⱼ/h: cos ψⱼ = √((ℓⱼ + h)/(2ℓⱼ)), sin ψⱼ = yⱼ/√(2ℓⱼ(ℓⱼ + h)),
+        // and the subtraction formulas with their numerators written as sums
+        // of non-negative terms.
+        let zero = T::zero();
+        let (e0, e1) = (l0.clone() + &h, l1.clone() + &h);
+        let opposite = y0 < zero && y1 > zero;
+        let num_s = if opposite {
+            y1.clone() * &e0 - &(y0.clone() * &e1)
+        } else {
+            // y₁(ℓ₀ + h) − y₀(ℓ₁ + h) = h L [1 + h (y₁ + y₀)/(y₁ℓ₀ + y₀ℓ₁)].
+            h.clone()
+                * &ly
+                * &(one.clone()
+                    + &(h.clone() * &(y1.clone() + &y0)
+                        / &(y1.clone() * &l0 + &(y0.clone() * &l1))))
+        };
+        let num_c = if opposite {
+            // (ℓ₀ + h)(ℓ₁ + h) − |y₀|y₁ with ℓⱼ + h − |yⱼ| = h + h²/(ℓⱼ + |yⱼ|).
+            let d0 = h.clone() + &(h2.clone() / &(l0.clone() + &y0.abs()));
+            let d1 = h.clone() + &(h2.clone() / &(l1.clone() + &y1.abs()));
+            y0.abs() * &d1 + &(y1.abs() * &d0) + &(d0 * &d1)
+        } else {
+            e0.clone() * &e1 + &(y0.clone() * &y1)
+        };
+        let den = two.clone() * &(l0.clone() * &l1 * &e0 * &e1).sqrt();
+        let sd = num_s / &den;
+        let cd = num_c / &den;
         let sdcd = sd.clone() * &cd;
         let sd2 = sd.square();
         let cd2 = cd.square();
 
         let unit = |v: [T; 3]| -> [T; 3] {
-            let n = v[0].hypot(&v[1]).hypot(&v[2]);
+            let n = length(&v);
             v.map(|c| c / &n)
         };
-        let zero = T::zero();
         let normals = [
             unit([h.clone(), zero.clone(), x0.clone()]),
             unit([-h.clone(), zero.clone(), -x1.clone()]),
@@ -529,7 +548,7 @@ fn anchor<T: Real>(
     let two = T::from_i64(2);
     let w = col.w.clone();
     let sdw = sd.clone() * &w;
-    let n = cd.hypot(&sdw);
+    let n = length(&[cd.clone(), sdw.clone()]);
     let s_phi = sdw.clone() / &n;
     let c_phi = cd.clone() / &n;
     let sdcd_n = sd.clone() * cd / &n;

@@ -1066,3 +1066,71 @@ fn spherical_rectangle_rand_distribution() {
         }
     }
 }
+
+/// Rough cost per sample of both variants (the criterion benchmark is the
+/// reference): `cargo test --release spherical_rectangle_speed -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore]
+fn spherical_rectangle_speed() {
+    use std::hint::black_box;
+    use std::time::Instant;
+    fn time<T: Real>(shape: &[Vec3<f64>; 4], variant: V, pts: &[(T, T)]) -> f64 {
+        let w = build::<T>(shape, variant).unwrap();
+        let mut best = f64::INFINITY;
+        for _ in 0..7 {
+            let t0 = Instant::now();
+            let mut acc = T::zero();
+            for (u, v) in pts {
+                let d = w.map(black_box(u), black_box(v));
+                acc += d.x + &d.y + &d.z;
+            }
+            black_box(acc);
+            best = best.min(t0.elapsed().as_secs_f64() / pts.len() as f64 * 1e9);
+        }
+        best
+    }
+    fn time_build<T: Real>(shape: &[Vec3<f64>; 4], variant: V, pts: &[(T, T)]) -> f64 {
+        let [s, ex, ey, o] = shape.clone().map(|v| v.convert::<T>());
+        let mut best = f64::INFINITY;
+        for _ in 0..7 {
+            let t0 = Instant::now();
+            let mut acc = T::zero();
+            for (u, v) in pts {
+                let w = SphericalRectangle::new_with(
+                    black_box(&s).clone(),
+                    black_box(&ex).clone(),
+                    black_box(&ey).clone(),
+                    black_box(&o).clone(),
+                    variant,
+                )
+                .unwrap();
+                let d = w.map(u, v);
+                acc += d.x + &d.y + &d.z;
+            }
+            black_box(acc);
+            best = best.min(t0.elapsed().as_secs_f64() / pts.len() as f64 * 1e9);
+        }
+        best
+    }
+    fn run<T: Real>() {
+        let pts: Vec<(T, T)> = random_points(1 << 16, 3)
+            .into_iter()
+            .map(|(u, v)| (T::from_f64(u), T::from_f64(v)))
+            .collect();
+        for (name, shape) in ordinary_rectangles() {
+            let r = time::<T>(&shape, V::Robust, &pts);
+            let l = time::<T>(&shape, V::Literal, &pts);
+            let rb = time_build::<T>(&shape, V::Robust, &pts[..4096]);
+            let lb = time_build::<T>(&shape, V::Literal, &pts[..4096]);
+            println!(
+                "{} {name:<22} map: robust {r:6.1} ns  literal {l:6.1} ns  ratio {:.2};  build+map: robust {rb:6.1} ns  literal {lb:6.1} ns  ratio {:.2}",
+                T::type_name(),
+                r / l,
+                rb / lb
+            );
+        }
+    }
+    run::<f32>();
+    run::<f64>();
+}
