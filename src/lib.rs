@@ -7,13 +7,19 @@
 //!
 //! The crate follows Arvo's five-step recipe ([`recipe`]), generic over the
 //! scalar type ([`real::Real`]: `f32`, `f64`, MPFR, dual numbers), and ships
-//! the analytic warps ([`shapes`]) and a checking harness ([`harness`]) that
-//! proves, at 256 bits, that a map's Jacobian really is constant and measures
-//! how many digits `f32`/`f64` lose.
+//! the warps ([`shapes`]: planar triangle, disks, hemisphere, Phong lobe,
+//! sphere, spherical triangle and rectangle, projected spherical polygon) and
+//! a checking harness ([`harness`]) that proves, at 256 bits, that a map's
+//! Jacobian really is constant and measures how many digits `f32`/`f64` lose.
+//! Around them: point sets ([`sampling`]), estimators and multiple importance
+//! sampling ([`estimate`]), Ureña's adaptive triangle sampling ([`adaptive`]),
+//! a minimal scene model for the experiments ([`scene`]) and, with the
+//! `studies` feature, the studies behind `areawarp report`.
 //!
 //! ## Features
 //! - `mpfr` (default): MPFR scalars ([`real::Mpfr`]) via `rug` (builds GMP/MPFR from C).
-//! - `cli` (default): the `areawarp` program (`eval`, `report`).
+//! - `studies` (default through `cli`): the studies and figure writers (adds `rayon`).
+//! - `cli` (default): the `areawarp` program (`eval`, `report`); implies `mpfr` and `studies`.
 //!
 //! A renderer depends on `areawarp` with `default-features = false`: pure Rust.
 #![deny(missing_docs)]

@@ -794,6 +794,9 @@ impl<T: Real> WarpFamily<T> for SphericalTriangle<T> {
     }
 }
 
+// `rand::distr::Distribution` directly on the f32/f64 triangles (so that
+// `tri.sample(&mut rng)` works); `crate::sampling::WarpSampler` wraps any
+// warp the same way and draws the same (u, v).
 macro_rules! impl_distribution {
     ($t:ty) => {
         impl rand::distr::Distribution<Vec3<$t>> for SphericalTriangle<$t> {

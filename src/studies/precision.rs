@@ -251,9 +251,18 @@ pub(crate) fn catalogue(
 
     let mut n = 0;
     for (name, [a, b, c]) in [
-        ("3-D", [v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0)]),
-        ("unit", [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0)]),
-        ("sliver", [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.5, 1e-6, 0.0)]),
+        (
+            "3-D",
+            [v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0)],
+        ),
+        (
+            "unit",
+            [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0)],
+        ),
+        (
+            "sliver",
+            [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.5, 1e-6, 0.0)],
+        ),
     ] {
         let w = PlanarTriangle::new(a.clone(), b.clone(), c.clone())?;
         push(
@@ -269,7 +278,10 @@ pub(crate) fn catalogue(
     }
     let simple: [(&'static str, Built); 3] = [
         ("polar-disk", Built::PolarDisk(PolarDisk::new())),
-        ("concentric-disk", Built::ConcentricDisk(ConcentricDisk::new())),
+        (
+            "concentric-disk",
+            Built::ConcentricDisk(ConcentricDisk::new()),
+        ),
         ("hemisphere", Built::Hemisphere(Hemisphere::new())),
     ];
     for (warp, b) in simple {
@@ -481,7 +493,12 @@ macro_rules! exact_without_parameters {
         }
     )*};
 }
-exact_without_parameters!(PolarDisk<f64>, ConcentricDisk<f64>, Hemisphere<f64>, Sphere<f64>);
+exact_without_parameters!(
+    PolarDisk<f64>,
+    ConcentricDisk<f64>,
+    Hemisphere<f64>,
+    Sphere<f64>
+);
 
 impl StudyWarp for PhongLobe<f64> {
     fn exact(&self) -> Self {
@@ -524,8 +541,7 @@ impl StudyWarp for SphericalTriangle<f64> {
 
 impl StudyWarp for SphericalRectangle<f64> {
     fn exact(&self) -> Self {
-        self.clone()
-            .with_variant(SphericalRectangleVariant::Robust)
+        self.clone().with_variant(SphericalRectangleVariant::Robust)
     }
     fn is_exact(&self) -> bool {
         self.variant() == SphericalRectangleVariant::Robust
@@ -585,7 +601,11 @@ pub(crate) enum PointOutcome {
     /// Both finite: error against the exact map and against the variant's
     /// own map at 256 bits (units of `u_T · extent`), and the distance
     /// outside the shape (same units).
-    Finite { ulps: f64, own_ulps: f64, outside_ulps: f64 },
+    Finite {
+        ulps: f64,
+        own_ulps: f64,
+        outside_ulps: f64,
+    },
     /// The map in `T` returned NaN or ∞.
     NonFinite,
     /// The 256-bit reference was not finite.
@@ -679,6 +699,8 @@ pub struct PrecisionConfig {
     /// Nodes per side of the `f32` error maps (`n × n` nodes
     /// `(i/(n−1), j/(n−1))`), at least 2.
     pub heat_map_nodes: usize,
+    /// Only these warps (labels of [`WARPS`]); `None`: all.
+    pub warps: Option<Vec<String>>,
 }
 
 impl PrecisionConfig {
@@ -692,6 +714,7 @@ impl PrecisionConfig {
             max_shapes: None,
             max_polygons: Some(1),
             heat_map_nodes: 12,
+            warps: None,
         }
     }
 }
@@ -715,6 +738,14 @@ impl PrecisionConfig {
             return Err(WarpError::InvalidParameter {
                 name: "heat_map_nodes",
                 expected: "at least 2",
+            });
+        }
+        if let Some(only) = &self.warps
+            && (only.is_empty() || only.iter().any(|w| !WARPS.contains(&w.as_str())))
+        {
+            return Err(WarpError::InvalidParameter {
+                name: "warps",
+                expected: "labels of studies::precision::WARPS",
             });
         }
         if self.max_shapes == Some(0) || self.max_polygons == Some(0) {
@@ -910,7 +941,10 @@ enum JobOut {
 /// the shipped shapes).
 pub fn run(config: &PrecisionConfig) -> Result<PrecisionStudy, WarpError> {
     config.validate()?;
-    let shapes = catalogue(config.max_shapes, config.max_polygons)?;
+    let mut shapes = catalogue(config.max_shapes, config.max_polygons)?;
+    if let Some(only) = &config.warps {
+        shapes.retain(|e| only.iter().any(|w| w == e.warp));
+    }
     let points = config.points();
     let maps = heat_map_cases(&shapes);
     let n = config.heat_map_nodes;
@@ -1272,7 +1306,13 @@ impl PrecisionStudy {
     }
 
     /// The cell of `warp`, `variant`, `shape`, `scalar`.
-    pub fn cell(&self, warp: &str, variant: &str, shape: &str, scalar: &str) -> Option<&PrecisionCell> {
+    pub fn cell(
+        &self,
+        warp: &str,
+        variant: &str,
+        shape: &str,
+        scalar: &str,
+    ) -> Option<&PrecisionCell> {
         self.cells.iter().find(|c| {
             c.warp == warp && c.variant == variant && c.shape == shape && c.scalar == scalar
         })
@@ -1292,7 +1332,10 @@ impl PrecisionStudy {
     /// inversion settings per polygon, and the `f32` error maps.
     pub fn to_markdown(&self) -> String {
         let mut s = String::new();
-        let _ = writeln!(s, "## Precision: every warp × variant × type against 256 bits\n");
+        let _ = writeln!(
+            s,
+            "## Precision: every warp × variant × type against 256 bits\n"
+        );
         let _ = writeln!(
             s,
             "Each shape is evaluated on the extremes grid (u, v ∈ {{0, 2⁻⁶⁰, 1e-12, 1e-6, ½, 1−1e-6, 1−1e-12, 1}}²) \
@@ -1314,10 +1357,9 @@ impl PrecisionStudy {
         );
         let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in &self.summary {
-            let at = r
-                .worst
-                .as_ref()
-                .map_or("–".to_string(), |(sh, uv)| format!("{sh} {}", fmt_uv(*uv)));
+            let at = r.worst.as_ref().map_or("–".to_string(), |(sh, uv)| {
+                format!("{sh} {}", fmt_uv(*uv))
+            });
             let kappa = match (r.max_kappa_ratio, r.kappa_failures) {
                 (Some(k), 0) => fmt_num(k),
                 (Some(k), f) => format!("{} ({f} without κ)", fmt_num(k)),
@@ -1642,16 +1684,28 @@ mod tests {
         }
         // Whole ladders: every hard shape is a cell, in both types.
         for (name, _) in hard_triangles() {
-            assert!(s.cell("spherical-triangle", "literal", &name, "f32").is_some());
+            assert!(
+                s.cell("spherical-triangle", "literal", &name, "f32")
+                    .is_some()
+            );
         }
         for (name, _) in hard_rectangles() {
-            assert!(s.cell("spherical-rectangle", "robust", &name, "f64").is_some());
+            assert!(
+                s.cell("spherical-rectangle", "robust", &name, "f64")
+                    .is_some()
+            );
         }
         let md = s.to_markdown();
         for warp in WARPS {
-            assert!(md.contains(&format!("| {warp} |")), "{warp} not in the table");
+            assert!(
+                md.contains(&format!("| {warp} |")),
+                "{warp} not in the table"
+            );
         }
-        assert_eq!(s.summary.len(), 2 * warp_variants().iter().map(|v| v.1.len()).sum::<usize>());
+        assert_eq!(
+            s.summary.len(),
+            2 * warp_variants().iter().map(|v| v.1.len()).sum::<usize>()
+        );
     }
 
     #[test]
@@ -1681,12 +1735,20 @@ mod tests {
             }
         }
         // The literal maps are measurably worse somewhere on the ladders.
-        let lit = s.summary_of("spherical-triangle", "literal", "f64").unwrap();
+        let lit = s
+            .summary_of("spherical-triangle", "literal", "f64")
+            .unwrap();
         let rob = s.summary_of("spherical-triangle", "robust", "f64").unwrap();
-        assert!(lit.non_finite > 0 || lit.max_ulps > 1e3 * rob.max_ulps.max(1.0), "{lit:?}");
+        assert!(
+            lit.non_finite > 0 || lit.max_ulps > 1e3 * rob.max_ulps.max(1.0),
+            "{lit:?}"
+        );
     }
 
-    fn conditioned<T: Real>(w: &SphericalTriangle<f64>, points: &[(f64, f64)]) -> crate::harness::sensitivity::ConditionedReport {
+    fn conditioned<T: Real>(
+        w: &SphericalTriangle<f64>,
+        points: &[(f64, f64)],
+    ) -> crate::harness::sensitivity::ConditionedReport {
         let wt = w.at::<T>().unwrap();
         let params = coords(&[wt.a(), wt.b(), wt.c()]);
         check_precision_conditioned::<T, _, _, _>(
@@ -1707,14 +1769,21 @@ mod tests {
         // round to degenerate triangles in f32).
         let accepted: Vec<(String, [Vec3<f64>; 3])> = hard_triangles()
             .into_iter()
-            .filter(|(_, [a, b, c])| SphericalTriangle::<f32>::new(a.convert(), b.convert(), c.convert()).is_ok())
+            .filter(|(_, [a, b, c])| {
+                SphericalTriangle::<f32>::new(a.convert(), b.convert(), c.convert()).is_ok()
+            })
             .collect();
         assert!(accepted.len() >= 4, "{}", accepted.len());
         for k in [1, accepted.len() - 1] {
             let (name, [a, b, c]) = accepted[k].clone();
             let w = SphericalTriangle::new(a, b, c).unwrap();
-            for (r, scalar) in [(conditioned::<f64>(&w, &points), "f64"), (conditioned::<f32>(&w, &points), "f32")] {
-                let cell = quick().cell("spherical-triangle", "robust", &name, scalar).unwrap();
+            for (r, scalar) in [
+                (conditioned::<f64>(&w, &points), "f64"),
+                (conditioned::<f32>(&w, &points), "f32"),
+            ] {
+                let cell = quick()
+                    .cell("spherical-triangle", "robust", &name, scalar)
+                    .unwrap();
                 let ratio = cell.max_kappa_ratio.unwrap();
                 assert!(
                     (ratio - r.max_ratio).abs() <= 1e-12 * r.max_ratio.max(1e-300),
@@ -1731,6 +1800,15 @@ mod tests {
         let config = PrecisionConfig {
             max_shapes: Some(2),
             heat_map_nodes: 6,
+            // The projected polygon's κ (Newton at 256 bits for every
+            // perturbed vertex) would dominate the single-thread run.
+            warps: Some(
+                WARPS
+                    .iter()
+                    .filter(|&&w| w != "projected-polygon")
+                    .map(|w| w.to_string())
+                    .collect(),
+            ),
             random_points: 2,
             ..PrecisionConfig::quick()
         };
@@ -1790,7 +1868,10 @@ mod tests {
                 let _ = with_warp!(built, |w| point_errors::<f64, _>(w, &pts));
             }
             let te = t.elapsed().as_secs_f64();
-            println!("{:<20} {:<28} jac {tj:.3} kappa64 {tk:.3} err64 {te:.3}", e.warp, e.shape);
+            println!(
+                "{:<20} {:<28} jac {tj:.3} kappa64 {tk:.3} err64 {te:.3}",
+                e.warp, e.shape
+            );
         }
     }
 
@@ -1803,6 +1884,11 @@ mod tests {
         assert!(run(&bad).is_err());
         let bad = PrecisionConfig {
             max_shapes: Some(0),
+            ..PrecisionConfig::quick()
+        };
+        assert!(run(&bad).is_err());
+        let bad = PrecisionConfig {
+            warps: Some(vec!["torus".to_string()]),
             ..PrecisionConfig::quick()
         };
         assert!(run(&bad).is_err());

@@ -709,9 +709,9 @@ impl Geometry {
                 }
                 let n = n.scale(&(1.0 / nn));
                 let kn = k.dot(&n);
-                if kn.abs() < 1e-9 {
-                    full_phi = true; // the arc's great circle passes a pole
-                }
+                // The highest and lowest points of the arc's great circle;
+                // when on the arc, they extend the z range (a pole on the
+                // arc gives z = ±1, hence a full azimuth range below).
                 let m = k.sub(&n.scale(&kn));
                 let mm = m.norm();
                 if mm > 0.0 {
@@ -724,11 +724,18 @@ impl Geometry {
                         }
                     }
                 }
+                // An arc shorter than π not through a pole sweeps less than
+                // half a turn of azimuth, monotonically: the shorter way
+                // between its end azimuths. Near half a turn (an arc
+                // grazing a pole) the way is ambiguous: give up on φ.
                 let (vp, vq) = (uv[i].1, uv[j].1);
-                if kn > 0.0 {
-                    arcs.push((vp, (vq - vp).rem_euclid(1.0)));
+                let forward = (vq - vp).rem_euclid(1.0);
+                if forward.min(1.0 - forward) > 0.5 - 1e-9 {
+                    full_phi = true;
+                } else if forward <= 0.5 {
+                    arcs.push((vp, forward));
                 } else {
-                    arcs.push((vq, (vp - vq).rem_euclid(1.0)));
+                    arcs.push((vq, 1.0 - forward));
                 }
             }
         }
@@ -793,10 +800,12 @@ fn covering_arc(arcs: &mut [(f64, f64)]) -> Option<(f64, f64)> {
 /// square of `sphere` (its axis and azimuth frame): the `z` range from the
 /// vertices, the interior extremes of the edges' great arcs and the poles
 /// contained in a face; the azimuth range as the shortest arc covering every
-/// edge's sweep (monotone along a great arc not through a pole, in the
-/// direction of the sign of `(p × q) · axis`); the full azimuth range when
-/// a face contains a pole or an edge's great circle passes within `10^-9`
-/// of one. Padded by `pad` radians (in `u` by `pad`, in `v` by
+/// edge's sweep (an edge's great arc, shorter than π, sweeps its azimuths
+/// monotonically and by less than half a turn unless it passes a pole: the
+/// shorter way between its end azimuths); the full azimuth range when the
+/// `z` range reaches a pole (a face or an edge contains it), a vertex lies
+/// within `10^-9` of one, or an edge sweeps within `10^-9` of half a turn.
+/// Padded by `pad` radians (in `u` by `pad`, in `v` by
 /// `pad / (2π sin θ_min)`), so that it conservatively contains every
 /// direction of the mesh — the estimator stays unbiased.
 ///
@@ -1892,6 +1901,7 @@ impl SolidAngleStudy {
         let (rand_box, strat_box, strat_sphere, rand_axis, strat_axes, f32_fixed, f32_axes) =
             (std[0], std[1], std[2], std[3], std[4], std[5], std[6]);
         let ratio = |scene: &str, a: &Method, b: &Method| match self.error_ratio(scene, a, b) {
+            Some((r, n)) if r < 0.01 => format!("{} (n = {n})", fmt_e(r)),
             Some((r, n)) => format!("{r:.3} (n = {n})"),
             None => "–".to_string(),
         };
@@ -2553,7 +2563,32 @@ mod tests {
     #[test]
     fn angular_box_contains_every_hit_direction() {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
-        for sc in default_scenes().unwrap() {
+        let extra = |name: &str, mesh: TriangleMesh| Scene {
+            name: name.into(),
+            description: String::new(),
+            mesh,
+            viewpoint: Vec3::zero(),
+        };
+        let tri = |a, b, c| TriangleMesh::open(vec![a, b, c], vec![[0, 1, 2]]).unwrap();
+        let mut scenes = default_scenes().unwrap();
+        scenes.extend([
+            // Edges on meridian planes (y = 0, constant azimuth).
+            extra(
+                "axis-aligned octahedron",
+                TriangleMesh::octahedron(v(3.0, 0.0, 0.0), 0.5).unwrap(),
+            ),
+            // An edge through the south pole.
+            extra(
+                "edge through pole",
+                tri(v(1.0, 0.0, -1.0), v(-1.0, 0.0, -1.0), v(0.0, 1.0, -1.0)),
+            ),
+            // Near the north pole, not containing it, edges passing close.
+            extra(
+                "near pole",
+                tri(v(0.01, 0.001, 1.0), v(-0.01, 0.002, 1.0), v(0.0, 0.02, 1.0)),
+            ),
+        ]);
+        for sc in scenes {
             let g = Geometry::new(&sc.mesh, &sc.viewpoint).unwrap();
             let mut spheres = vec![Sphere::<f64>::new()];
             for _ in 0..6 {
@@ -2564,7 +2599,7 @@ mod tests {
             spheres.push(Sphere::with_axis(g.dirs[0].neg()).unwrap());
             for sphere in &spheres {
                 let bx = g.angular_box(sphere, pad_for::<f64>());
-                assert!(bx.fraction() < 0.5, "{}: {bx:?}", sc.name);
+                assert!(bx.fraction() < 0.6, "{}: {bx:?}", sc.name);
                 // Hitting directions: aim at random points of random faces.
                 for _ in 0..2000 {
                     let f = g.faces[rng.random_range(0..g.faces.len())];

@@ -244,9 +244,13 @@ struct ErrorCell {
 
 /// Max error of each variant of `e` in `T` against the exact map at 512
 /// bits (the reference evaluated once per point for all variants).
-fn shape_errors<T: Real>(e: &ShapeEntry, points: &[(f64, f64)]) -> Result<Vec<ErrorCell>, WarpError> {
+fn shape_errors<T: Real>(
+    e: &ShapeEntry,
+    points: &[(f64, f64)],
+) -> Result<Vec<ErrorCell>, WarpError> {
     let exact = &e.variants[0].1;
-    let reference: Option<(Vec<Option<Vec3<R>>>, R)> = with_warp!(exact, |w| reference_points::<T, _>(w, points))?;
+    let reference: Option<(Vec<Option<Vec3<R>>>, R)> =
+        with_warp!(exact, |w| reference_points::<T, _>(w, points))?;
     let mut out = Vec::new();
     for (_, built) in &e.variants {
         let Some((refs, extent)) = &reference else {
@@ -358,7 +362,11 @@ fn timings<T: Real, W: StudyWarp>(
 ) -> Result<(Timing, Timing), WarpError> {
     let mpfr = T::precision() > 53;
     let (batch, build_batch, reps) = if mpfr {
-        (config.mpfr_batch, config.mpfr_batch, config.mpfr_repetitions)
+        (
+            config.mpfr_batch,
+            config.mpfr_batch,
+            config.mpfr_repetitions,
+        )
     } else {
         (config.batch, config.build_batch, config.repetitions)
     };
@@ -400,7 +408,9 @@ pub fn run(config: &SpeedConfig) -> Result<SpeedStudy, WarpError> {
 
     let mut rows = Vec::new();
     for warp in WARPS {
-        let mine: Vec<usize> = (0..shapes.len()).filter(|&k| shapes[k].warp == warp).collect();
+        let mine: Vec<usize> = (0..shapes.len())
+            .filter(|&k| shapes[k].warp == warp)
+            .collect();
         let Some(&first) = mine.first() else { continue };
         let timed = &shapes[first];
         for (j, (variant, built)) in timed.variants.iter().enumerate() {
@@ -493,7 +503,11 @@ fn recommend(rows: &[SpeedRow]) -> Vec<Recommendation> {
             .iter()
             .filter(|r| r.warp == warp && r.scalar == "f64")
             .collect();
-        let clean: Vec<&SpeedRow> = f64_rows.iter().copied().filter(|r| r.non_finite == 0).collect();
+        let clean: Vec<&SpeedRow> = f64_rows
+            .iter()
+            .copied()
+            .filter(|r| r.non_finite == 0)
+            .collect();
         let Some(best_error) = clean.iter().map(|r| r.max_error).min_by(f64::total_cmp) else {
             continue;
         };
@@ -529,12 +543,17 @@ fn recommend(rows: &[SpeedRow]) -> Vec<Recommendation> {
             if r.non_finite > 0 {
                 let _ = write!(reason, ", {} NaN/∞", r.non_finite);
             } else if r.max_error > tolerance {
-                let _ = write!(reason, " ({}× the best)", fmt_num(r.max_error / best_error.max(f64::MIN_POSITIVE)));
+                let _ = write!(
+                    reason,
+                    " ({}× the best)",
+                    fmt_num(r.max_error / best_error.max(f64::MIN_POSITIVE))
+                );
             }
         }
-        if let Some(f32_row) = rows.iter().find(|r| {
-            r.warp == warp && r.scalar == "f32" && r.variant == pick.variant
-        }) {
+        if let Some(f32_row) = rows
+            .iter()
+            .find(|r| r.warp == warp && r.scalar == "f32" && r.variant == pick.variant)
+        {
             let _ = write!(
                 reason,
                 "; in f32: {} ns/sample ({:.2}×), max error {}{}",
@@ -671,7 +690,10 @@ impl SpeedStudy {
             "### Recommended defaults\n\nPer warp, the fastest f64 configuration that never returned NaN/∞ and whose \
              max error over all shapes is within 4× the best f64 max error.\n"
         );
-        let _ = writeln!(s, "| warp | default | ns/sample | with construction | max error | why |");
+        let _ = writeln!(
+            s,
+            "| warp | default | ns/sample | with construction | max error | why |"
+        );
         let _ = writeln!(s, "|---|---|---|---|---|---|");
         for r in &self.recommendations {
             let _ = writeln!(
@@ -735,7 +757,8 @@ impl SpeedStudy {
         }
         let a = dir.join("speed_accuracy.csv");
         std::fs::write(&a, t)?;
-        let mut t = String::from("warp,variant,type,ns_per_sample,ns_with_construction,max_error,reason\n");
+        let mut t =
+            String::from("warp,variant,type,ns_per_sample,ns_with_construction,max_error,reason\n");
         for r in &self.recommendations {
             let _ = writeln!(
                 t,
@@ -841,7 +864,12 @@ mod tests {
                     let r = s
                         .row(warp, variant, scalar)
                         .unwrap_or_else(|| panic!("{warp} {variant} {scalar} missing"));
-                    assert!(r.map.median > 0.0 && r.map.min <= r.map.median && r.map.median <= r.map.max, "{r:?}");
+                    assert!(
+                        r.map.median > 0.0
+                            && r.map.min <= r.map.median
+                            && r.map.median <= r.map.max,
+                        "{r:?}"
+                    );
                     assert!(r.map.q1 <= r.map.q3, "{r:?}");
                     assert!(r.build_and_map.median > 0.0, "{r:?}");
                     assert!(r.shapes > 0 && r.max_error.is_finite(), "{r:?}");
@@ -851,7 +879,13 @@ mod tests {
         }
         assert_eq!(s.rows.len(), expected);
         // Every inversion setting of the polygon, in every type.
-        for inv in ["cubic", "cubic+1 Newton", "cubic+2 Newton", "cubic+3 Newton", "Newton"] {
+        for inv in [
+            "cubic",
+            "cubic+1 Newton",
+            "cubic+2 Newton",
+            "cubic+3 Newton",
+            "Newton",
+        ] {
             assert!(s.row("projected-polygon", inv, "mpfr:128").is_some());
         }
         let md = s.to_markdown();
@@ -865,7 +899,10 @@ mod tests {
         let s = quick();
         for (warp, variants) in warp_variants() {
             let v = variants[0];
-            let e: Vec<f64> = SCALARS.iter().map(|t| s.row(warp, v, t).unwrap().max_error).collect();
+            let e: Vec<f64> = SCALARS
+                .iter()
+                .map(|t| s.row(warp, v, t).unwrap().max_error)
+                .collect();
             assert!(e[0] > e[1] && e[1] > e[2] && e[2] > e[3], "{warp}: {e:?}");
             assert!(e[1] < 1e-12 && e[3] < 1e-70, "{warp}: {e:?}");
         }
@@ -881,7 +918,10 @@ mod tests {
             assert!(!front.is_empty(), "{warp}");
             // Along the front, slower means more accurate.
             for w in front.windows(2) {
-                assert!(w[0].map.median <= w[1].map.median && w[0].max_error >= w[1].max_error, "{w:?}");
+                assert!(
+                    w[0].map.median <= w[1].map.median && w[0].max_error >= w[1].max_error,
+                    "{w:?}"
+                );
             }
         }
         let rec = s.recommendations();
@@ -908,14 +948,24 @@ mod tests {
         let figs = s.write_figures(&dir).unwrap();
         assert_eq!(figs.len(), 2);
         let all = verify_figure(&figs[0].path).unwrap();
-        assert_eq!(all.marks, s.rows.iter().filter(|r| r.non_finite == 0).count(), "{all:?}");
+        assert_eq!(
+            all.marks,
+            s.rows.iter().filter(|r| r.non_finite == 0).count(),
+            "{all:?}"
+        );
         let poly = verify_figure(&figs[1].path).unwrap();
         assert_eq!(poly.marks, 20, "{poly:?}");
         let csv = s.write_csv(&dir).unwrap();
         let rows = std::fs::read_to_string(&csv[0]).unwrap();
         assert_eq!(rows.lines().count(), s.rows.len() + 1);
         std::fs::remove_dir_all(&dir).ok();
-        assert!(run(&SpeedConfig { batch: 0, ..SpeedConfig::quick() }).is_err());
+        assert!(
+            run(&SpeedConfig {
+                batch: 0,
+                ..SpeedConfig::quick()
+            })
+            .is_err()
+        );
     }
 
     /// The default sizes of both studies, timed, with their Markdown
@@ -943,7 +993,10 @@ mod tests {
     #[test]
     fn timing_quantiles() {
         let t = Timing::of(vec![4.0, 1.0, 3.0, 2.0, 5.0], 10);
-        assert_eq!((t.min, t.q1, t.median, t.q3, t.max), (1.0, 2.0, 3.0, 4.0, 5.0));
+        assert_eq!(
+            (t.min, t.q1, t.median, t.q3, t.max),
+            (1.0, 2.0, 3.0, 4.0, 5.0)
+        );
         let t = Timing::of(vec![2.0, 1.0], 1);
         assert_eq!(t.median, 1.5);
     }

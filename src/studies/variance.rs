@@ -1570,7 +1570,16 @@ impl VarianceStudy {
                 let statement = format!("{statement} ({label})");
                 match (p, msr.method_index(&a.name()), msr.method_index(&b.name())) {
                     (Some(p), Some(ia), Some(ib)) if msr.spp.len() >= 2 => {
-                        out.push(saving_claim(msr, ia, ib, p, claimed, (lo, hi), ufk, &statement));
+                        out.push(saving_claim(
+                            msr,
+                            ia,
+                            ib,
+                            p,
+                            claimed,
+                            (lo, hi),
+                            ufk,
+                            &statement,
+                        ));
                     }
                     _ => out.push(not_measured(ufk, &statement)),
                 }
@@ -2067,6 +2076,72 @@ impl VarianceStudy {
             }
         }
 
+        if let Some(o) = &self.occluded {
+            let om = &o.measurement;
+            let row = &o.occluders;
+            let _ = writeln!(
+                out,
+                "### With occluders (the paper's spheres, as {} floating squares)\n\n\
+                 The paper's scene has three spheres on the ground; the renders' pixels see their shadows, so \
+                 the integrand is discontinuous inside the light's solid angle. Here {} opaque squares of side {} \
+                 stand in the plane {} away from the light, bottom edge at height {}, centred at x = {:?}; \
+                 {} of the {} receivers are partly in shadow ({} left out: no exact reference there). \
+                 The exact reference subtracts the projected solid angle of each shadow's part of the light \
+                 (Lambert's formula on the light clipped by the occluder's central projection).\n",
+                row.centers.len(),
+                row.centers.len(),
+                row.side,
+                row.distance,
+                row.bottom,
+                row.centers,
+                o.shadowed,
+                om.receivers.len(),
+                o.dropped
+            );
+            let ids: Vec<usize> = (0..om.methods.len()).collect();
+            let levels = table_levels(om);
+            for (p, set) in om.point_sets.iter().enumerate() {
+                let _ = writeln!(out, "{} points, all receivers:\n", set.name());
+                error_table(&mut out, om, &ids, p, Subset::All, &levels);
+                out.push('\n');
+            }
+            let _ = writeln!(
+                out,
+                "| comparison (b vs a), with occluders | {} |\n|---|{}",
+                om.point_sets
+                    .iter()
+                    .map(|p| p.name())
+                    .collect::<Vec<_>>()
+                    .join(" | "),
+                "---:|".repeat(om.point_sets.len())
+            );
+            for (a, b, what) in ratio_pairs() {
+                let (Some(ia), Some(ib)) = (om.method_index(&a.name()), om.method_index(&b.name()))
+                else {
+                    continue;
+                };
+                let cells: Vec<String> = (0..om.point_sets.len())
+                    .map(|p| {
+                        let r = om.sample_ratio(Subset::All, ia, ib, p);
+                        if r.ratio.is_finite() {
+                            format!("{:.3} ± {:.3}", r.ratio, r.std_error)
+                        } else {
+                            "–".to_string()
+                        }
+                    })
+                    .collect();
+                let _ = writeln!(out, "| {what} | {} |", cells.join(" | "));
+            }
+            out.push('\n');
+            if !om.failures.is_empty() {
+                let _ = writeln!(
+                    out,
+                    "{} (method, receiver) pairs failed with occluders and were skipped (see `variance_occluded_failures.csv`).\n",
+                    om.failures.len()
+                );
+            }
+        }
+
         let _ = writeln!(out, "### The paper's claims\n");
         let _ = writeln!(
             out,
@@ -2136,7 +2211,8 @@ impl VarianceStudy {
     /// `variance_curves.csv` (every curve point, both subsets),
     /// `variance_receivers.csv` (per receiver and method, the error at the
     /// largest spp), `variance_ratios.csv`, `variance_claims.csv`,
-    /// `variance_failures.csv`, and `variance_<slug>_curves.csv` per
+    /// `variance_failures.csv`, with occluders `variance_occluded_curves.csv`
+    /// and `variance_occluded_failures.csv`, and `variance_<slug>_curves.csv` per
     /// attached section with a measurement. Returns the paths.
     ///
     /// # Errors
@@ -2216,23 +2292,16 @@ impl VarianceStudy {
         }
         write("variance_claims.csv", t)?;
 
-        let mut t = String::from("method,receiver,x,y,z,failed,attempted,error\n");
-        for f in &ms.failures {
-            let _ = writeln!(
-                t,
-                "{},{},{},{},{},{},{},{}",
-                csv_field(&f.method),
-                f.receiver,
-                f.position.x,
-                f.position.y,
-                f.position.z,
-                f.failed,
-                f.attempted,
-                csv_field(&f.error)
-            );
-        }
+        let t = failures_csv(ms);
         write("variance_failures.csv", t)?;
 
+        if let Some(o) = &self.occluded {
+            write("variance_occluded_curves.csv", curves_csv(&o.measurement))?;
+            write(
+                "variance_occluded_failures.csv",
+                failures_csv(&o.measurement),
+            )?;
+        }
         for e in &self.extra {
             if let Some(m) = &e.measurement {
                 write(&format!("variance_{}_curves.csv", e.slug), curves_csv(m))?;
@@ -2246,7 +2315,8 @@ impl VarianceStudy {
     /// (`variance_<set>.svg`) and near the light (`variance_<set>_near.svg`),
     /// the error at the largest spp against the distance to the light
     /// (`variance_distance.svg`), the MIS heuristics
-    /// (`variance_heuristics.svg`), and one figure per attached section
+    /// (`variance_heuristics.svg`), with occluders the curves per point set
+    /// (`variance_occluded_<set>.svg`), and one figure per attached section
     /// with a measurement. Curves whose error never exceeds `10⁻¹²` (the
     /// zero-variance projected polygon) are named in the title instead of
     /// drawn.
@@ -2369,6 +2439,38 @@ impl VarianceStudy {
                 )?);
             }
         }
+        if let Some(o) = &self.occluded {
+            let om = &o.measurement;
+            let ids: Vec<usize> = (0..om.methods.len()).collect();
+            let occ_style = |m: usize| -> (Option<figures::Rgb>, bool) {
+                let method = self.config.occluded_methods.get(m);
+                let i = match method.map(|x| x.sampler) {
+                    Some(Sampler::Area) => 0,
+                    Some(Sampler::TrianglePair) => 1,
+                    Some(Sampler::Rectangle) => 2,
+                    Some(Sampler::ProjectedPolygon) => 3,
+                    _ => 4,
+                };
+                (Some(PALETTE[i]), method.is_some_and(|x| x.mis.is_some()))
+            };
+            for (p, set) in om.point_sets.iter().enumerate() {
+                let (plot, _) = curves_plot(
+                    om,
+                    &ids,
+                    p,
+                    Subset::All,
+                    &occ_style,
+                    &format!(
+                        "With occluders: relative RMS error vs spp ({} points)",
+                        set.name()
+                    ),
+                );
+                figs.push(figures::write_line_plot_svg(
+                    &dir.join(format!("variance_occluded_{}.svg", set.name())),
+                    &plot,
+                )?);
+            }
+        }
         for e in &self.extra {
             if let Some(m) = &e.measurement
                 && !m.point_sets.is_empty()
@@ -2458,6 +2560,26 @@ fn curves_plot(
         }
     }
     (plot, drawn)
+}
+
+/// The failures of a measurement as CSV.
+fn failures_csv(ms: &Measurement) -> String {
+    let mut t = String::from("method,receiver,x,y,z,failed,attempted,error\n");
+    for f in &ms.failures {
+        let _ = writeln!(
+            t,
+            "{},{},{},{},{},{},{},{}",
+            csv_field(&f.method),
+            f.receiver,
+            f.position.x,
+            f.position.y,
+            f.position.z,
+            f.failed,
+            f.attempted,
+            csv_field(&f.error)
+        );
+    }
+    t
 }
 
 /// All curve points of a measurement as CSV.
@@ -2667,7 +2789,7 @@ mod tests {
         let study = quick_study();
         let dir = temp_dir("out");
         let paths = study.write_csv(&dir).unwrap();
-        assert_eq!(paths.len(), 5);
+        assert_eq!(paths.len(), 7);
         let ms = &study.measurement;
         let curves = std::fs::read_to_string(dir.join("variance_curves.csv")).unwrap();
         assert_eq!(
@@ -2683,8 +2805,8 @@ mod tests {
         let claims = std::fs::read_to_string(dir.join("variance_claims.csv")).unwrap();
         assert!(claims.lines().count() > 8);
         let figs = study.write_figures(&dir).unwrap();
-        // 2 sets × (all, near) + distance + heuristics.
-        assert_eq!(figs.len(), 6);
+        // 2 sets × (all, near) + distance + heuristics + 2 occluded.
+        assert_eq!(figs.len(), 8);
         for f in &figs {
             let check = verify_figure(&f.path).unwrap();
             assert!(f.marks >= 10, "{:?}", f.path);
@@ -2720,6 +2842,52 @@ mod tests {
         let md = study.to_markdown();
         assert!(md.contains("### Samples at equal error"));
         assert!(md.contains("| area+MIS(power(2)) |"));
+    }
+
+    #[test]
+    fn occluded_reference_matches_a_converged_estimate() {
+        let base = setup::standing_rectangle(1.0, 0.5, 1.0, 0.1, 1.0, 2, 1).unwrap();
+        let mut scene = base.scene.clone();
+        for o in OccluderRow::standard().polygons().unwrap() {
+            scene = scene.with_occluder(o);
+        }
+        let up = Vec3::new(0.0, 0.0, 1.0);
+        let mut shadowed = 0;
+        for (x, y) in [
+            (-0.35, 0.3),
+            (0.0, 1.0),
+            (0.2, 0.2),
+            (0.1, 0.05),
+            (0.6, 0.4),
+            (-0.1, 3.0),
+        ] {
+            let rx = Receiver::new(Vec3::new(x, y, 0.0), up.clone()).unwrap();
+            let exact = occluded_irradiance(&scene, &rx).unwrap();
+            let free = lambert::irradiance(scene.emitter(), &rx);
+            assert!(exact <= free * (1.0 + 1e-12));
+            if exact < 0.99 * free {
+                shadowed += 1;
+            }
+            // Solid-angle sampling with visibility: bounded, converges fast.
+            let rect =
+                strategies::spherical_rectangle(scene.emitter().polygon(), rx.position()).unwrap();
+            let mut rng = crate::estimate::job_rng(5, 0);
+            let pts: Vec<(f64, f64)> = jittered_iter::<f64, _>(384, 384, &mut rng).collect();
+            let e = monte_carlo(
+                &rect,
+                |d| scene.integrand(&rx, &Quantity::Irradiance, d),
+                pts,
+            );
+            assert!(
+                (e.value / exact - 1.0).abs() < 2e-4,
+                "receiver ({x}, {y}): exact {exact}, estimate {}",
+                e.value
+            );
+        }
+        assert!(shadowed >= 3, "the occluders must cast shadows: {shadowed}");
+        // A receiver level with the occluders' plane: not supported.
+        let rx = Receiver::new(Vec3::new(0.0, 0.15, 0.0), up).unwrap();
+        assert!(occluded_irradiance(&scene, &rx).is_none());
     }
 
     /// An estimator failing at receivers with `x < 0`, and otherwise area

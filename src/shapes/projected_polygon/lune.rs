@@ -491,15 +491,19 @@ mod tests {
 /// tangentially in projection (at a vertex on the horizon, F ~ x³). G is
 /// then nearly linear, which is what the fitted cubic and Newton like: F⁻¹
 /// itself has a `y^(1/m)` singularity there that no cubic in y follows.
+/// The domain is `[0, end]`: `x_h` to fit the cubic, the whole lune for the
+/// solvers (G exceeds 1 beyond `x_h`).
 pub(super) struct HalfCdf<'a, T> {
     /// The side's marginal.
     pub base: LuneCdf<'a, T>,
-    /// The split point, in side coordinates.
+    /// The end of the fitted part, in side coordinates.
     pub xh: T,
     /// F(x_h).
     pub fh: T,
     /// The order of the zero of F at x = 0.
     pub m: u8,
+    /// The end of the domain.
+    pub end: T,
 }
 
 impl<T: Real> HalfCdf<'_, T> {
@@ -535,7 +539,7 @@ impl<T: Real> Cdf1<T> for HalfCdf<'_, T> {
         }
     }
     fn domain(&self) -> (T, T) {
-        (T::zero(), self.xh.clone())
+        (T::zero(), self.end.clone())
     }
 }
 
@@ -544,7 +548,7 @@ impl<T: Real> Cdf1<T> for HalfCdf<'_, T> {
 pub(super) struct SideFit<T> {
     /// The cubic fitted to G⁻¹.
     pub cubic: crate::recipe::FittedCubic<T>,
-    /// The split point x_h in side coordinates.
+    /// The end x_h of the fitted part, in side coordinates.
     pub xh: T,
     /// F(x_h).
     pub fh: T,
@@ -553,7 +557,7 @@ pub(super) struct SideFit<T> {
 }
 
 impl<T: Real> SideFit<T> {
-    /// Fits side `side` of `lune` up to the split point `xh`.
+    /// Fits the side's marginal `base` on `[0, xh]`.
     pub fn new(base: LuneCdf<'_, T>, xh: T) -> Self {
         let fh = base.cdf(&xh);
         let m = zero_order(&base, &xh);
@@ -562,18 +566,20 @@ impl<T: Real> SideFit<T> {
             xh: xh.clone(),
             fh: fh.clone(),
             m,
+            end: xh.clone(),
         };
         let cubic = crate::recipe::FittedCubic::fit(&half);
         SideFit { cubic, xh, fh, m }
     }
 
-    /// The [`HalfCdf`] of this fit over `base`.
-    pub fn half<'a>(&self, base: LuneCdf<'a, T>) -> HalfCdf<'a, T> {
+    /// The [`HalfCdf`] of this fit over `base`, on `[0, end]`.
+    pub fn half<'a>(&self, base: LuneCdf<'a, T>, end: T) -> HalfCdf<'a, T> {
         HalfCdf {
             base,
             xh: self.xh.clone(),
             fh: self.fh.clone(),
             m: self.m,
+            end,
         }
     }
 }

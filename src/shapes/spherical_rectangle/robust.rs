@@ -215,8 +215,8 @@ impl<T: Real> Robust<T> {
         let cd2 = cd.square();
 
         let unit = |v: [T; 3]| -> [T; 3] {
-            let n = length(&v);
-            v.map(|c| c / &n)
+            let inv = T::one() / &length(&v);
+            v.map(|c| c * &inv)
         };
         let normals = [
             unit([h.clone(), zero.clone(), x0.clone()]),
@@ -549,15 +549,16 @@ fn anchor<T: Real>(
     let w = col.w.clone();
     let sdw = sd.clone() * &w;
     let n = length(&[cd.clone(), sdw.clone()]);
-    let s_phi = sdw.clone() / &n;
-    let c_phi = cd.clone() / &n;
-    let sdcd_n = sd.clone() * cd / &n;
+    let inv_n = T::one() / &n;
+    let s_phi = sdw.clone() * &inv_n;
+    let c_phi = cd.clone() * &inv_n;
+    let sdcd_n = sd.clone() * cd * &inv_n;
     let s_p = col.one_m_w.clone() * &sdcd_n;
     let s_m = col.one_p_w.clone() * &sdcd_n;
     let cd2 = cd.square();
     let sd2w = sd.clone() * &sdw;
-    let c_p = (cd2.clone() + &sd2w) / &n;
-    let c_m = (cd2 - &sd2w) / &n;
+    let c_p = (cd2.clone() + &sd2w) * &inv_n;
+    let c_m = (cd2 - &sd2w) * &inv_n;
     let one_m_abs_w = if w >= T::zero() {
         col.one_m_w.clone()
     } else {

@@ -13,6 +13,7 @@ fn all_shapes() -> Vec<(String, [Vec3<f64>; 3])> {
 }
 
 /// The extremes grid plus 16 random points.
+#[cfg(feature = "mpfr")]
 fn points() -> Vec<(f64, f64)> {
     let mut p = extremes_grid();
     p.extend(random_points(16, 42));
@@ -236,6 +237,14 @@ fn distribution_samples_lie_in_the_triangle() {
         for _ in 0..200 {
             let p: Vec3<f64> = t.sample(&mut rng);
             assert!(t.outside_by(&p) <= 4.0 * f64::EPSILON, "{name}: {p:?}");
+        }
+        // The crate-wide adapter gives the same samples.
+        let via = crate::sampling::WarpSampler::new(t.clone());
+        let mut r1 = Xoshiro256PlusPlus::seed_from_u64(1);
+        let mut r2 = Xoshiro256PlusPlus::seed_from_u64(1);
+        for _ in 0..8 {
+            let p: Vec3<f64> = via.sample(&mut r1);
+            assert_eq!(p, t.sample(&mut r2), "{name}");
         }
         if let Ok(t32) = t.at::<f32>() {
             for _ in 0..200 {
