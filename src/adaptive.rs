@@ -682,6 +682,21 @@ pub struct Piece {
     pub capped: bool,
 }
 
+/// Summary of an adaptive partition ([`AdaptiveTriangle::partition_summary`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PartitionSummary {
+    /// The number of pieces.
+    pub pieces: usize,
+    /// The deepest piece's depth.
+    pub max_depth: u32,
+    /// The number of capped pieces ([`Piece::capped`]).
+    pub capped: usize,
+    /// Their total probability.
+    pub capped_probability: f64,
+    /// `Σ_capped (k(R) − K) P(R)`.
+    pub capped_excess: f64,
+}
+
 /// A piece that received samples in one [`AdaptiveTriangle::generate`]
 /// call.
 #[derive(Clone, Debug, PartialEq)]
@@ -1104,33 +1119,43 @@ impl AdaptiveTriangle {
         Ok(out)
     }
 
-    /// The number of pieces of the partition, if at most `limit`.
-    pub fn piece_count(&self, limit: usize) -> Option<usize> {
-        let mut count = 0usize;
+    /// Counts and capped-piece statistics of the partition, if it has at
+    /// most `limit` pieces (one walk, no storage).
+    pub fn partition_summary(&self, limit: usize) -> Option<PartitionSummary> {
+        let mut sum = PartitionSummary::default();
+        let k_threshold = self.threshold;
         for (root, p) in self.roots.iter().zip(&self.root_shares) {
-            self.walk(root, *p, &mut |_| {
-                count += 1;
-                count <= limit
+            let going = self.walk(root, *p, &mut |piece| {
+                if sum.pieces >= limit {
+                    return false;
+                }
+                sum.pieces += 1;
+                sum.max_depth = sum.max_depth.max(piece.depth);
+                if piece.capped {
+                    sum.capped += 1;
+                    sum.capped_probability += piece.probability;
+                    sum.capped_excess +=
+                        (piece.measures.k - k_threshold).max(0.0) * piece.probability;
+                }
+                true
             });
-            if count > limit {
+            if !going {
                 return None;
             }
         }
-        Some(count)
+        Some(sum)
+    }
+
+    /// The number of pieces of the partition, if at most `limit`.
+    pub fn piece_count(&self, limit: usize) -> Option<usize> {
+        self.partition_summary(limit).map(|s| s.pieces)
     }
 
     /// `Σ_capped (k(R) − K) P(R)` over the capped pieces (0 if none): the
     /// excess of `U/U₀` over `1 + K` allowed by the bound for constant `f`
     /// (`None` if the partition has more than `limit` pieces).
     pub fn capped_excess(&self, limit: usize) -> Option<f64> {
-        let pieces = self.pieces(limit).ok()?;
-        Some(
-            pieces
-                .iter()
-                .filter(|p| p.capped)
-                .map(|p| (p.measures.k - self.threshold).max(0.0) * p.probability)
-                .sum(),
-        )
+        self.partition_summary(limit).map(|s| s.capped_excess)
     }
 
     /// Depth-first walk over the leaves below `node` (probability `prob`);

@@ -3,7 +3,7 @@
 //! bias, and its sample distribution, over several triangles, integrands
 //! and thresholds K.
 
-use super::{Allocation, AdaptiveTriangle};
+use super::{AdaptiveTriangle, Allocation, PartitionSummary};
 use crate::error::WarpError;
 use crate::estimate::{Stats, job_seed, run_jobs};
 use crate::sampling::jittered;
@@ -432,10 +432,8 @@ pub struct StudyRow {
     pub integrand: StudyIntegrand,
     /// K.
     pub k_threshold: f64,
-    /// Pieces in the full partition (`None` above the limit).
-    pub pieces: Option<usize>,
-    /// Capped pieces' excess `Σ (k − K) P` ([`AdaptiveTriangle::capped_excess`]).
-    pub capped_excess: Option<f64>,
+    /// The full partition's summary (`None` above the piece limit).
+    pub partition: Option<PartitionSummary>,
     /// Mean number of pieces that received samples, per estimate.
     pub leaves_per_estimate: f64,
     /// Mean depth of the pieces that received samples.
@@ -464,8 +462,11 @@ pub struct StudyRow {
     pub u_eff_ratio: f64,
     /// Standard error of [`StudyRow::u_eff_ratio`].
     pub u_eff_ratio_se: f64,
-    /// The bound `1 + K` plus the capped pieces' allowance
-    /// `σ⊥² max f² Σ(k − K)P / U₀` (0 without capped pieces).
+    /// The bound on [`StudyRow::u_ratio`]: `1 + K` plus the capped pieces'
+    /// allowance `Σ_{i capped} σ⊥ f_i² w_i (k(R_i) − K) / Σ_i σ⊥ f_i² w_i`
+    /// over the same samples (0 if no sample fell in a capped piece). The
+    /// paired ratio is below it sample by sample, since
+    /// `w ≤ σ⊥ (1 + k(R))` on every piece.
     pub bound: f64,
     /// `max_i w_i/σ⊥ − 1` over all samples (`< K` unless a capped piece
     /// was sampled).
@@ -503,7 +504,8 @@ struct Replicate {
     leaves: usize,
     depth_sum: f64,
     capped: u64,
-    max_f: f64,
+    /// `(1/n) Σ_capped σ⊥ f² w (k − K)`.
+    allowance: f64,
 }
 
 /// Runs the study: for every case and K, `replicates` independent
@@ -554,6 +556,7 @@ fn measure_row(
     row_index: u64,
 ) -> Result<StudyRow, WarpError> {
     let sp = t.projected_solid_angle();
+    let k_threshold = t.threshold();
     let n = config.samples;
     let reps = run_jobs(
         config.replicates,
@@ -564,11 +567,14 @@ fn measure_row(
             for (i, d) in set.directions.iter().enumerate() {
                 let w = set.weights[i];
                 let f = case.f(d);
-                r.max_f = r.max_f.max(f);
                 if f != 0.0 {
                     r.estimate += f * w;
                     r.u += (f * w) * (f * w);
                     r.u0 += sp * f * f * w;
+                    let leaf = &set.leaves[set.leaf[i] as usize];
+                    if leaf.capped {
+                        r.allowance += sp * f * f * w * (leaf.k - k_threshold).max(0.0);
+                    }
                 }
                 r.max_weight = r.max_weight.max(w);
             }
@@ -576,6 +582,7 @@ fn measure_row(
             r.estimate /= nf;
             r.u /= nf;
             r.u0 /= nf;
+            r.allowance /= nf;
             r.leaves = set.leaves.len();
             for l in &set.leaves {
                 r.depth_sum += l.depth as f64;
@@ -593,7 +600,7 @@ fn measure_row(
     let mut depth_sum = 0.0;
     let mut capped = 0u64;
     let mut max_weight: f64 = 0.0;
-    let mut max_f: f64 = 0.0;
+    let mut allowance = 0.0;
     for r in &reps {
         est.push(r.estimate);
         u.push(r.u);
@@ -602,7 +609,7 @@ fn measure_row(
         depth_sum += r.depth_sum;
         capped += r.capped;
         max_weight = max_weight.max(r.max_weight);
-        max_f = max_f.max(r.max_f);
+        allowance += r.allowance;
     }
     let rn = reps.len() as f64;
     // Paired ratio U/U₀ = Ū/Ū₀, delta-method standard error over replicates.
@@ -627,19 +634,17 @@ fn measure_row(
     } else {
         f64::INFINITY.copysign(est.mean() - i_ref)
     };
-    let pieces = t.piece_count(config.piece_limit);
-    let capped_excess = t.capped_excess(config.piece_limit);
-    let allowance = match capped_excess {
-        Some(e) if e > 0.0 => sp * sp * max_f * max_f * e / reference.u0,
-        Some(_) => 0.0,
-        None => f64::NAN,
+    let partition = t.partition_summary(config.piece_limit);
+    let allowance = if allowance > 0.0 {
+        allowance / rn / u0.mean()
+    } else {
+        0.0
     };
     Ok(StudyRow {
         case: case.name.clone(),
         integrand: case.integrand,
         k_threshold: t.threshold(),
-        pieces,
-        capped_excess,
+        partition,
         leaves_per_estimate: leaves as f64 / rn,
         mean_depth: depth_sum / leaves.max(1) as f64,
         reference: i_ref,
@@ -652,7 +657,7 @@ fn measure_row(
         u_over_u0_ref_se: u.std_error() / reference.u0,
         u_eff_ratio: u_eff / reference.u0,
         u_eff_ratio_se: n as f64 * var_se / reference.u0,
-        bound: 1.0 + t.threshold() + allowance,
+        bound: 1.0 + k_threshold + allowance,
         max_weight_excess: max_weight / sp - 1.0,
         capped_samples: capped,
     })
@@ -701,9 +706,10 @@ impl AdaptiveStudy {
             } else {
                 format!("{}", r.k_threshold)
             };
-            let pieces = match r.pieces {
-                Some(p) => p.to_string(),
-                None => "—".to_string(),
+            let pieces = match &r.partition {
+                Some(p) if p.capped > 0 => format!("{} ({} capped)", p.pieces, p.capped),
+                Some(p) => p.pieces.to_string(),
+                None => "> limit".to_string(),
             };
             let _ = writeln!(
                 s,

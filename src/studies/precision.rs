@@ -927,6 +927,7 @@ fn heat_map_cases(shapes: &[ShapeEntry]) -> Vec<(usize, usize)> {
 }
 
 enum JobOut {
+    Jacobian(Vec<(f64, usize)>),
     Cells(Vec<(PrecisionCell, Vec<f64>)>),
     Map(F32ErrorMap),
 }
@@ -951,24 +952,42 @@ pub fn run(config: &PrecisionConfig) -> Result<PrecisionStudy, WarpError> {
     let grid: Vec<(f64, f64)> = (0..n)
         .flat_map(|j| (0..n).map(move |i| (i as f64 / (n - 1) as f64, j as f64 / (n - 1) as f64)))
         .collect();
-    // The heat maps first: they are the longest jobs.
-    let jobs = maps.len() + shapes.len();
+    // The heat maps first (the longest jobs), then per shape its
+    // Jacobians, its f32 cells and its f64 cells.
+    let jobs = maps.len() + 3 * shapes.len();
     let results = run_jobs(jobs, config.seed, |i, _rng| -> Result<JobOut, WarpError> {
         if i < maps.len() {
             let (k, j) = maps[i];
             let e = &shapes[k];
             let (label, built) = &e.variants[j];
             let outcomes = with_warp!(built, |w| point_errors::<f32, _>(w, &grid))?;
-            Ok(JobOut::Map(error_map(e, label, n, &grid, &outcomes)))
-        } else {
-            shape_cells(&shapes[i - maps.len()], &points).map(JobOut::Cells)
+            return Ok(JobOut::Map(error_map(e, label, n, &grid, &outcomes)));
+        }
+        let i = i - maps.len();
+        let e = &shapes[i / 3];
+        match i % 3 {
+            0 => jacobians(e, &points).map(JobOut::Jacobian),
+            1 => scalar_cells::<f32>(e, &points).map(JobOut::Cells),
+            _ => scalar_cells::<f64>(e, &points).map(JobOut::Cells),
         }
     });
     let mut cells = Vec::new();
     let mut f32_maps = Vec::new();
+    let mut jac = Vec::new();
     for r in results {
         match r? {
-            JobOut::Cells(c) => cells.extend(c),
+            JobOut::Jacobian(j) => jac = j,
+            JobOut::Cells(c) => {
+                // The variants of one scalar, in order: the Jacobian of
+                // variant j belongs to cell j.
+                for (j, (mut cell, errs)) in c.into_iter().enumerate() {
+                    if let Some(&(dev, bad)) = jac.get(j) {
+                        cell.jacobian_max_dev = dev;
+                        cell.jacobian_non_finite = bad;
+                    }
+                    cells.push((cell, errs));
+                }
+            }
             JobOut::Map(m) => f32_maps.push(m),
         }
     }
@@ -1028,28 +1047,23 @@ fn error_map(
     }
 }
 
-/// All cells of one shape: per scalar (`f32`, `f64`), κ once, then every
-/// variant; the Jacobian once per variant. Each cell comes with its finite
-/// per-point errors (for the pooled medians).
-fn shape_cells(
-    e: &ShapeEntry,
-    points: &[(f64, f64)],
-) -> Result<Vec<(PrecisionCell, Vec<f64>)>, WarpError> {
+/// The 256-bit Jacobian deviation and non-finite count of each variant of
+/// `e` (independent of the scalar under test).
+fn jacobians(e: &ShapeEntry, points: &[(f64, f64)]) -> Result<Vec<(f64, usize)>, WarpError> {
     let mut jac = Vec::new();
     for (_, built) in &e.variants {
         let r = with_warp!(built, |w| check_jacobian(w, points))?;
         jac.push((r.max_rel_deviation, r.non_finite));
     }
-    let mut out = Vec::new();
-    out.extend(scalar_cells::<f32>(e, points, &jac)?);
-    out.extend(scalar_cells::<f64>(e, points, &jac)?);
-    Ok(out)
+    Ok(jac)
 }
 
+/// The cells of every variant of `e` in `T` (κ computed once), each with
+/// its finite per-point errors (for the pooled medians); the Jacobian
+/// fields are filled in by [`run`].
 fn scalar_cells<T: Real>(
     e: &ShapeEntry,
     points: &[(f64, f64)],
-    jac: &[(f64, usize)],
 ) -> Result<Vec<(PrecisionCell, Vec<f64>)>, WarpError> {
     let format = format_of::<T>()?;
     let ut = format.unit_roundoff();
@@ -1063,7 +1077,7 @@ fn scalar_cells<T: Real>(
         })
     };
     let mut out = Vec::new();
-    for (j, (label, built)) in e.variants.iter().enumerate() {
+    for (label, built) in &e.variants {
         let mut cell = PrecisionCell {
             warp: e.warp.to_string(),
             variant: label.to_string(),
@@ -1085,8 +1099,8 @@ fn scalar_cells<T: Real>(
             max_kappa_ulps: None,
             outside_bound: 0,
             kappa_error: None,
-            jacobian_max_dev: jac[j].0,
-            jacobian_non_finite: jac[j].1,
+            jacobian_max_dev: 0.0,
+            jacobian_non_finite: 0,
         };
         let outcomes = if accepted {
             with_warp!(built, |w| point_errors::<T, _>(w, points))
@@ -1845,6 +1859,54 @@ mod tests {
         let cells = std::fs::read_to_string(&csv[0]).unwrap();
         assert_eq!(cells.lines().count(), s.cells.len() + 1);
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    #[ignore]
+    fn scratch_polygon_jacobian() {
+        let pts = PrecisionConfig::default().points();
+        for e in catalogue(None, None).unwrap().into_iter().filter(|e| e.warp == "projected-polygon") {
+            for (label, built) in &e.variants {
+                let r = with_warp!(built, |w| check_jacobian(w, &pts)).unwrap();
+                println!("{} {label}: dev {:.2e} at {:?} value {} nudged {}", e.shape, r.max_rel_deviation, r.worst, r.worst_value, r.nudged);
+                if let Built::ProjectedPolygon(w) = built {
+                    for uv in [(0.5, 1.0), (0.5, 1.0 - 1e-12), (0.5, 0.5)] {
+                        let a = w.map(&uv.0, &uv.1);
+                        let b = w.at::<M>().unwrap().map(&M::from_f64(uv.0), &M::from_f64(uv.1));
+                        let x = w.clone().with_inversion(MarginalInversion::Newton).at::<M>().unwrap().map(&M::from_f64(uv.0), &M::from_f64(uv.1));
+                        println!("   {uv:?}: f64 {a:?} own256 ({}, {}, {}) exact ({}, {}, {})", b.x.to_f64(), b.y.to_f64(), b.z.to_f64(), x.x.to_f64(), x.y.to_f64(), x.z.to_f64());
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    #[ignore]
+    fn scratch_mpfr128() {
+        use crate::real::{Mpfr, Mpfr128};
+        type R = Mpfr<512>;
+        let pts = PrecisionConfig::default().points();
+        let ws: Vec<(&str, Built)> = vec![("sphere", Built::Sphere(Sphere::new())), ("phong0", Built::Phong(PhongLobe::new(0.0).unwrap())), ("hemi", Built::Hemisphere(Hemisphere::new()))];
+        for (name, b) in ws {
+            with_warp!(&b, |w| {
+                let wt = w.at::<Mpfr128>().unwrap();
+                let wr = wt.at::<R>().unwrap();
+                let mut worst = (0.0, (0.0, 0.0));
+                for &(u, v) in &pts {
+                    let (ut, vt) = (Mpfr128::from_f64(u), Mpfr128::from_f64(v));
+                    let p: Vec3<R> = wt.map(&ut, &vt).to_vec3().convert();
+                    let q = wr.map(&convert(&ut), &convert(&vt)).to_vec3();
+                    let e = p.sub(&q).max_abs().to_f64();
+                    if e > worst.0 { worst = (e, (u, v)); }
+                }
+                println!("{name}: {worst:?}");
+                let (u, v) = worst.1;
+                let (ut, vt) = (Mpfr128::from_f64(u), Mpfr128::from_f64(v));
+                println!("  128: {:?}", wt.map(&ut, &vt).to_vec3());
+                println!("  512: {:?}", wr.map(&convert(&ut), &convert(&vt)).to_vec3());
+            });
+        }
     }
 
     #[test]

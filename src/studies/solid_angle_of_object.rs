@@ -1595,6 +1595,11 @@ fn slope(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
+/// `|a − b| / |b|`, evaluated in `R`.
+fn relative_difference<R: Real>(a: f64, b: &R) -> f64 {
+    ((R::from_f64(a) - b) / b).abs().to_f64()
+}
+
 /// Runs the study on rayon's current thread pool. The result depends only
 /// on `config` (not on the number of threads).
 ///
@@ -1614,7 +1619,7 @@ pub fn run(config: &SolidAngleConfig) -> Result<SolidAngleStudy, WarpError> {
     for (s, g) in config.scenes.iter().zip(&geoms) {
         let e64: f64 = exact_solid_angle(&s.mesh, &s.viewpoint)?;
         let er: Reference = exact_solid_angle(&s.mesh, &s.viewpoint)?;
-        let rel = ((Reference::from_f64(e64) - &er) / &er).abs().to_f64();
+        let rel = relative_difference(e64, &er);
         scenes.push(SceneSummary {
             name: s.name.clone(),
             description: s.description.clone(),

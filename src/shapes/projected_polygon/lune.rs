@@ -496,8 +496,6 @@ mod tests {
 pub(super) struct HalfCdf<'a, T> {
     /// The side's marginal.
     pub base: LuneCdf<'a, T>,
-    /// The end of the fitted part, in side coordinates.
-    pub xh: T,
     /// F(x_h).
     pub fh: T,
     /// The order of the zero of F at x = 0.
@@ -563,7 +561,6 @@ impl<T: Real> SideFit<T> {
         let m = zero_order(&base, &xh);
         let half = HalfCdf {
             base,
-            xh: xh.clone(),
             fh: fh.clone(),
             m,
             end: xh.clone(),
@@ -576,7 +573,6 @@ impl<T: Real> SideFit<T> {
     pub fn half<'a>(&self, base: LuneCdf<'a, T>, end: T) -> HalfCdf<'a, T> {
         HalfCdf {
             base,
-            xh: self.xh.clone(),
             fh: self.fh.clone(),
             m: self.m,
             end,

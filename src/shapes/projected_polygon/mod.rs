@@ -475,7 +475,19 @@ impl<T: Real> ProjectedPolygon<T> {
                 if target > T::zero() {
                     let (lo, hi) = cubic.bracket(&target);
                     let hi = if hi >= fit.xh { lune.width.clone() } else { hi };
-                    newton.solve_in(&cdf, &target, cubic.eval(&target), lo, hi).x
+                    let r = newton.solve_in(&cdf, &target, cubic.eval(&target), lo, hi);
+                    if r.residual == T::zero() {
+                        // Stopped on an exact root right after a step that
+                        // started from a poorer iterate: over dual numbers
+                        // that step's derivative is off by the *previous*
+                        // residual. One more update (value unchanged, f = 0)
+                        // carries dx/dy = 1/G'(x).
+                        let d = cdf.pdf(&r.x);
+                        if d > T::zero() && d.is_finite() {
+                            return r.x.clone() - &((cdf.cdf(&r.x) - &target) / &d);
+                        }
+                    }
+                    r.x
                 } else if fit.m > 1 {
                     // At a vertex where the density vanishes dx/dy is
                     // infinite: x = 0·x_h keeps the value 0 and, over dual

@@ -1,5 +1,7 @@
 use super::*;
-use crate::harness::extremes::{extremes_grid, random_points};
+#[cfg(feature = "mpfr")]
+use crate::harness::extremes::extremes_grid;
+use crate::harness::extremes::random_points;
 use SphericalTriangleVariant::{Literal as Lit, Robust as Rob};
 
 fn tri(v: &[Vec3<f64>; 3]) -> Result<SphericalTriangle<f64>, WarpError> {
