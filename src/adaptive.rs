@@ -73,7 +73,8 @@ mod study;
 mod tests;
 
 pub use study::{
-    AdaptiveStudy, StudyCase, StudyConfig, StudyIntegrand, StudyRow, standard_cases, study,
+    AdaptiveStudy, AllocationBiasRow, Reference, StudyCase, StudyConfig, StudyIntegrand,
+    StudyRow, allocation_bias, allocation_bias_markdown, standard_cases, study,
 };
 
 use crate::error::WarpError;

@@ -594,3 +594,25 @@ fn adaptive_study_standard() {
         assert!(r.z.abs() < 5.0, "{} {:?} {}: z = {}", r.case, r.integrand, r.k_threshold, r.z);
     }
 }
+
+/// The paper's allocation rule against the unbiased ones, measured at
+/// small n (`docs/adaptive-triangle.md`).
+#[test]
+#[ignore]
+fn adaptive_allocation_bias_measured() {
+    let cases: Vec<StudyCase> = standard_cases()
+        .unwrap()
+        .into_iter()
+        .filter(|c| {
+            (c.name == "large" && c.integrand != StudyIntegrand::Smooth)
+                || c.integrand == StudyIntegrand::Scene
+        })
+        .collect();
+    let rows = allocation_bias(&cases, 0.1, &[2, 3, 5], 200_000, 1 << 22, 77).unwrap();
+    println!("{}", allocation_bias_markdown(&rows));
+    for r in &rows {
+        if r.allocation != Allocation::Successive {
+            assert!(r.z.abs() < 5.0, "{r:?}");
+        }
+    }
+}

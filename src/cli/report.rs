@@ -60,12 +60,16 @@ fn step<R>(name: &str, f: impl FnOnce() -> Result<R, Box<dyn std::error::Error>>
     r
 }
 
-/// Markdown links to written figures, relative to the report directory.
-fn figure_links(out: &Path, figs: &[areawarp::figures::Figure]) -> String {
+/// Markdown links to the written figures that a study's Markdown does not
+/// already show, relative to the report directory.
+fn figure_links(out: &Path, figs: &[areawarp::figures::Figure], md: &str) -> String {
     let mut s = String::new();
     for f in figs {
         let rel = f.path.strip_prefix(out).unwrap_or(&f.path);
         let name = rel.display().to_string();
+        if md.contains(&name) {
+            continue;
+        }
         let _ = writeln!(s, "![{name}]({name})\n");
     }
     s
@@ -74,8 +78,8 @@ fn figure_links(out: &Path, figs: &[areawarp::figures::Figure]) -> String {
 fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     use areawarp::studies::{precision as precision_study, solid_angle_of_object, speed, variance};
     std::fs::create_dir_all(out)?;
-    let figs = out.join("figures");
-    std::fs::create_dir_all(&figs)?;
+    // Figures sit beside index.md: the studies' Markdown links them by file name.
+    let figs = out.to_path_buf();
     let started = Instant::now();
     let (overview_md, overview_ok) = step("warps overview", || overview(out, quick))?;
     let mut md = overview_md;
@@ -87,7 +91,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     })?;
     prec.write_csv(out)?;
     let f = prec.write_figures(&figs)?;
-    let _ = writeln!(md, "\n{}\n{}", prec.to_markdown(), figure_links(out, &f));
+    let section = prec.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
 
     let spd = step("speed–accuracy study", || {
@@ -96,7 +101,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     })?;
     spd.write_csv(out)?;
     let f = spd.write_figures(&figs)?;
-    let _ = writeln!(md, "\n{}\n{}", spd.to_markdown(), figure_links(out, &f));
+    let section = spd.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
 
     let var = step("variance study", || {
@@ -105,7 +111,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     })?;
     var.write_csv(out)?;
     let f = var.write_figures(&figs)?;
-    let _ = writeln!(md, "\n{}\n{}", var.to_markdown(), figure_links(out, &f));
+    let section = var.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
 
     let sa = step("solid angle of an object", || {
@@ -114,7 +121,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     })?;
     sa.write_csv(out)?;
     let f = sa.write_figures(&figs)?;
-    let _ = writeln!(md, "\n{}\n{}", sa.to_markdown(), figure_links(out, &f));
+    let section = sa.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
 
     let _ = writeln!(

@@ -483,11 +483,15 @@ fn moment_z_scores(w: &ProjectedPolygon<f64>, m: &Moments, n: usize, seed: u64) 
     z
 }
 
+/// |z| < `bound` for the five moments of every test polygon. σ comes from
+/// 16 replicas (Student's t with 15 degrees of freedom: P(|t| > 5) ≈ 1.6e-4
+/// per moment, about 1 % for the 55 moments together). Each polygon gets its
+/// own random stream, so that the z-scores are independent.
 fn check_moments(n: usize, bound: f64) {
-    for (name, light) in lights() {
+    for (seed, (name, light)) in lights().into_iter().enumerate() {
         let w = warp_of(&light, MarginalInversion::Newton);
         let m = light.moments();
-        let z = moment_z_scores(&w, &m, n, 7);
+        let z = moment_z_scores(&w, &m, n, 1000 + seed as u64);
         println!("{name}: z-scores {z:.2?}");
         assert!(z.iter().all(|x| x.abs() < bound), "{name}: {z:?}");
     }
@@ -596,13 +600,13 @@ mod mpfr {
 
     #[test]
     fn projected_polygon_jacobian_256_bits() {
-        jacobian_for(&["convex", "around-pole", "horizon-split"], 0);
+        jacobian_for(&[], 16);
     }
 
     #[test]
     #[ignore]
-    fn projected_polygon_jacobian_256_bits_all() {
-        jacobian_for(&[], 64);
+    fn projected_polygon_jacobian_256_bits_many_points() {
+        jacobian_for(&[], 1024);
     }
 
     /// The cubic alone is *not* area-preserving: the check sees it.
@@ -978,32 +982,3 @@ fn projected_polygon_timing() {
     }
 }
 
-#[test]
-#[ignore]
-fn zz_pv_moments() {
-    let light = lights().into_iter().find(|l| l.0 == "pole-vertex").unwrap().1;
-    let w = warp_of(&light, MarginalInversion::Newton);
-    let m = light.moments();
-    let m2 = {
-        // Reference with finer quadrature.
-        let mut mm = Moments::default();
-        light.integrate_phi(&[], 24, 32, |phi, wt, iv| {
-            let (s, c) = phi.sin_cos();
-            for &(a, b) in iv {
-                let r3 = (b * b.sqrt() - a * a.sqrt()) / 3.0;
-                mm.area += wt * 0.5 * (b - a);
-                mm.x += wt * c * r3;
-                mm.y += wt * s * r3;
-            }
-        });
-        mm
-    };
-    println!("area {} {} Π {}", m.area, m2.area, w.measure());
-    println!("Ex {} {}  Ey {} {}", m.x / m.area, m2.x / m2.area, m.y / m.area, m2.y / m2.area);
-    for seed in [1, 2, 3] {
-        let reps = sample_moments(&w, 250, seed);
-        let mx = reps.iter().map(|r| r[0]).sum::<f64>() / 16.0;
-        let my = reps.iter().map(|r| r[1]).sum::<f64>() / 16.0;
-        println!("seed {seed}: Ex {mx} Ey {my} z {:?}", moment_z_scores(&w, &m, 250, seed));
-    }
-}
