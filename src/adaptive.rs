@@ -73,15 +73,14 @@ mod study;
 mod tests;
 
 pub use study::{
-    AdaptiveStudy, AllocationBiasRow, Reference, StudyCase, StudyConfig, StudyIntegrand,
-    StudyRow, allocation_bias, allocation_bias_markdown, standard_cases, study,
+    AdaptiveStudy, AllocationBiasRow, Reference, StudyCase, StudyConfig, StudyIntegrand, StudyRow,
+    allocation_bias, allocation_bias_markdown, standard_cases, study,
 };
 
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::scene::Frame;
 use crate::shapes::SphericalTriangle;
-use crate::shapes::polygon_measures;
 use crate::vector::Vec3;
 use crate::warp::Warp;
 use rand::{Rng, RngExt};
@@ -120,11 +119,7 @@ pub fn arc_max_cosine<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> T {
     let s2 = n.x.square() + &n.y.square();
     if s2 > T::zero() {
         // p ∝ ẑ |n|² − n_z n (height s2 > 0), unnormalized.
-        let p = Vec3::new(
-            -(n.z.clone() * &n.x),
-            -(n.z.clone() * &n.y),
-            s2.clone(),
-        );
+        let p = Vec3::new(-(n.z.clone() * &n.x), -(n.z.clone() * &n.y), s2.clone());
         if a.cross(&p).dot(&n) >= T::zero() && p.cross(&b).dot(&n) >= T::zero() {
             let top = s2.sqrt() / &n.norm();
             m = m.max(&top);
@@ -192,15 +187,72 @@ fn unit_or_nan<T: Real>(v: &Vec3<T>) -> Vec3<T> {
     })
 }
 
+/// Lambert's formula for the projected solid angle (receiver normal `+z`)
+/// of the spherical triangle with *unit* vertices `a`, `b`, `c`:
+///
+/// `σ⊥ = ½ |Σ_i θ_i n̂_i·ẑ|`, `θ_i = ∠(v_i, v_{i+1})`, `n̂_i = v_i × v_{i+1}/|v_i × v_{i+1}|`
+///
+/// (π × the point-to-polygon form factor; Ureña 2000 §4.2, whose `n_i`
+/// must be normalized). Each edge normal is formed as `v_i × (v_{i+1} − v_i)`
+/// (the same vector, without the cancellation of `v_i × v_{i+1}` for short
+/// edges), so that each term has full relative accuracy; the sum of the
+/// three `O(size)` terms to an `O(size²)` result still costs a relative
+/// error of about `u/size` (`u` the unit roundoff). Edges of zero length
+/// contribute 0.
+fn lambert<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
+    let zero = T::zero();
+    let mut sum = zero.clone();
+    for (x, y) in [(a, b), (b, c), (c, a)] {
+        let n = x.cross(&y.sub(x));
+        let s = n.norm();
+        if s > zero {
+            sum += &(s.atan2(&x.dot(y)) * &n.z / &s);
+        }
+    }
+    (sum / &T::from_i64(2)).abs()
+}
+
+/// The solid angle of the triangle with unit vertices `a`, `b`, `c` by the
+/// evaluation of [`SphericalTriangle::new`] (Van Oosterom–Strackee,
+/// `Ω = 2 atan2(|det|, 1 + a·b + b·c + c·a)`, with `det(a, b, c)` from the
+/// cross product of the two shortest chords at the vertex opposite the
+/// longest, and `1 + a·b = |a + b|²/2`), and `true` if the triangle passes
+/// that constructor's non-degeneracy test `|det| > 256 u ℓ₁ℓ₂` with a
+/// 16-fold margin (so that [`SphericalTriangle::new`] accepts it too).
+fn robust_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> (T, bool) {
+    let ab = b.sub(a);
+    let bc = c.sub(b);
+    let ca = a.sub(c);
+    let (l_ab, l_bc, l_ca) = (ab.norm(), bc.norm(), ca.norm());
+    let (det, l1, l2) = if l_bc >= l_ab && l_bc >= l_ca {
+        (a.dot(&ab.cross(&ca.neg())), &l_ab, &l_ca)
+    } else if l_ca >= l_ab {
+        (b.dot(&bc.cross(&ab.neg())), &l_ab, &l_bc)
+    } else {
+        (c.dot(&ca.cross(&bc.neg())), &l_bc, &l_ca)
+    };
+    let two = T::from_i64(2);
+    let a_plus_b = a.add(b);
+    let den = a_plus_b.dot(&a_plus_b) / &two + &c.dot(&a_plus_b);
+    let omega = det.abs().atan2(&den) * &two;
+    let threshold = T::from_i64(4096) * &T::unit_roundoff() * l1 * l2;
+    let ok = det.abs() > threshold
+        && omega > T::zero()
+        && (T::one() / &omega).is_finite()
+        && l1.clone() > T::zero();
+    (omega, ok)
+}
+
 /// σ, σ⊥, m and k of one spherical triangle above the receiver's horizon
 /// (receiver normal `+z`), the quantities that drive the subdivision.
 ///
 /// - `σ` ([`solid_angle`](Self::solid_angle)): the solid angle, by the
 ///   robust Van Oosterom–Strackee evaluation of [`SphericalTriangle`]
-///   (the same number its map is uniform over);
+///   (not Girard's `Σβ − π` of the paper's §4.2, which cancels for small
+///   triangles);
 /// - `σ⊥` ([`projected_solid_angle`](Self::projected_solid_angle)):
-///   Lambert's formula `½ Σ θ_i n̂_i·ẑ`
-///   ([`polygon_measures::projected_solid_angle`]), absolute value;
+///   Lambert's formula `½ |Σ θ_i n̂_i·ẑ|`, with edge normals formed from
+///   differences (relative error about `u/size`);
 /// - `m` ([`max_cosine`](Self::max_cosine)): [`max_cosine`];
 /// - `k = m σ/σ⊥ − 1` ([`k`](Self::k), eq. 5): `≥ 0` since
 ///   `σ⊥ = ∫ cos dσ ≤ m σ` (to rounding); `+∞` when `σ⊥ = 0`.
@@ -242,7 +294,8 @@ impl<T: Real> TriangleMeasures<T> {
         Self::of(&SphericalTriangle::new(a, b, c)?)
     }
 
-    /// The measures of an existing [`SphericalTriangle`].
+    /// The measures of an existing [`SphericalTriangle`] (σ is its
+    /// [`solid_angle`](SphericalTriangle::solid_angle)).
     ///
     /// # Errors
     /// [`WarpError::InvalidParameter`] if a vertex is below the horizon.
@@ -255,22 +308,26 @@ impl<T: Real> TriangleMeasures<T> {
                 expected: "directions with z >= 0 (clip against the horizon first)",
             });
         }
-        let up = Vec3::new(T::zero(), T::zero(), T::one());
-        let sigma = tri.solid_angle().clone();
-        let sigma_perp =
-            polygon_measures::projected_solid_angle(&[a.clone(), b.clone(), c.clone()], &up).abs();
+        Ok(Self::with_solid_angle(a, b, c, tri.solid_angle().clone()))
+    }
+
+    /// The measures of the triangle with unit vertices `a b c` (z ≥ 0) and
+    /// solid angle `sigma`.
+    fn with_solid_angle(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>, sigma: T) -> Self {
+        let zero = T::zero();
+        let sigma_perp = lambert(a, b, c);
         let m = max_cosine(a, b, c);
         let k = if sigma_perp > zero {
             m.clone() * &sigma / &sigma_perp - &T::one()
         } else {
             T::one() / T::zero()
         };
-        Ok(TriangleMeasures {
+        TriangleMeasures {
             solid_angle: sigma,
             projected_solid_angle: sigma_perp,
             max_cosine: m,
             k,
-        })
+        }
     }
 }
 
@@ -414,9 +471,7 @@ fn distribute_into<R: Rng + ?Sized>(
                     pick(&q[..len], total, u)
                 } else {
                     // Only reachable through rounding (Σ p_i < 1 − 1/n).
-                    (0..len)
-                        .max_by(|&x, &y| p[x].total_cmp(&p[y]))
-                        .unwrap_or(0)
+                    (0..len).max_by(|&x, &y| p[x].total_cmp(&p[y])).unwrap_or(0)
                 };
                 counts[i] += 1;
             }
@@ -430,9 +485,7 @@ fn distribute_into<R: Rng + ?Sized>(
             }
             let total: f64 = frac[..len].iter().sum();
             if !(total > 0.0) {
-                let i = (0..len)
-                    .max_by(|&x, &y| p[x].total_cmp(&p[y]))
-                    .unwrap_or(0);
+                let i = (0..len).max_by(|&x, &y| p[x].total_cmp(&p[y])).unwrap_or(0);
                 counts[i] += r;
                 return;
             }
@@ -532,11 +585,7 @@ fn normalized_probabilities(p: &[f64]) -> Result<Vec<f64>, WarpError> {
 /// assert!((e[0] - 0.9).abs() < 1e-12);
 /// # Ok::<(), areawarp::WarpError>(())
 /// ```
-pub fn expected_counts(
-    p: &[f64],
-    n: usize,
-    allocation: Allocation,
-) -> Result<Vec<f64>, WarpError> {
+pub fn expected_counts(p: &[f64], n: usize, allocation: Allocation) -> Result<Vec<f64>, WarpError> {
     let p = normalized_probabilities(p)?;
     let len = p.len();
     let nf = n as f64;
@@ -596,51 +645,85 @@ fn successive_inclusion(
 // ---------------------------------------------------------------------------
 // The subdivision tree.
 
-/// One spherical triangle of the subdivision, with its measures and
-/// (memoized near the root) its four children.
+/// One spherical triangle of the subdivision. Only its vertices and σ⊥
+/// (needed to share samples among siblings) are computed when it is
+/// created; σ, m, k (needed once samples reach it), its solid-angle sampler
+/// (once it is a leaf with samples) and its children (memoized near the
+/// root) are computed on first use.
 #[derive(Clone, Debug)]
 struct Node {
-    tri: SphericalTriangle<f64>,
-    measures: TriangleMeasures<f64>,
+    /// Unit vertices.
+    v: [Vec3<f64>; 3],
+    sigma_perp: f64,
     depth: u32,
-    /// `(root index, child digits)`: `code = root · 4^depth + Σ digit · 4^…`.
+    /// `root · 4^depth + Σ digit · 4^…` (see [`Piece::code`]).
     code: u64,
+    measures: OnceLock<TriangleMeasures<f64>>,
+    sampler: OnceLock<Option<SphericalTriangle<f64>>>,
     children: OnceLock<Option<Box<[Node; 4]>>>,
 }
 
 impl Node {
-    fn new(tri: SphericalTriangle<f64>, depth: u32, code: u64) -> Result<Self, WarpError> {
-        let measures = TriangleMeasures::of(&tri)?;
-        Ok(Node {
-            tri,
-            measures,
+    /// The node with unit vertices `v`, if it is not degenerate in `f64`
+    /// (see [`robust_solid_angle`]).
+    fn new(v: [Vec3<f64>; 3], depth: u32, code: u64) -> Option<Self> {
+        let (sigma, ok) = robust_solid_angle(&v[0], &v[1], &v[2]);
+        if !ok || v.iter().any(|p| !(p.z >= 0.0)) {
+            return None;
+        }
+        let sigma_perp = lambert(&v[0], &v[1], &v[2]);
+        let measures = OnceLock::new();
+        // Roots compute everything at once; children lazily.
+        if depth == 0 {
+            let _ = measures.set(TriangleMeasures::with_solid_angle(
+                &v[0], &v[1], &v[2], sigma,
+            ));
+        }
+        Some(Node {
+            v,
+            sigma_perp,
             depth,
             code,
+            measures,
+            sampler: OnceLock::new(),
             children: OnceLock::new(),
         })
     }
 
-    fn vertices(&self) -> [Vec3<f64>; 3] {
-        [self.tri.a().clone(), self.tri.b().clone(), self.tri.c().clone()]
+    fn measures(&self) -> &TriangleMeasures<f64> {
+        self.measures.get_or_init(|| {
+            let [a, b, c] = &self.v;
+            let (sigma, _) = robust_solid_angle(a, b, c);
+            TriangleMeasures::with_solid_angle(a, b, c, sigma)
+        })
+    }
+
+    /// Arvo's map for this triangle (`None` only if [`SphericalTriangle::new`]
+    /// rejected a triangle [`Node::new`] accepted, which its margin rules out).
+    fn sampler(&self) -> Option<&SphericalTriangle<f64>> {
+        self.sampler
+            .get_or_init(|| {
+                let [a, b, c] = &self.v;
+                SphericalTriangle::new(a.clone(), b.clone(), c.clone()).ok()
+            })
+            .as_ref()
     }
 
     /// The four children at the normalized edge midpoints (Fig. 2): the
-    /// corners at A, B, C, then the middle triangle; `None` if a child is
-    /// degenerate in `f64`.
+    /// corners at the first, second and third vertex, then the middle
+    /// triangle; `None` if a child is degenerate in `f64`.
     fn split(&self) -> Option<Box<[Node; 4]>> {
-        let [a, b, c] = self.vertices();
-        let mab = a.add(&b).normalized()?;
-        let mbc = b.add(&c).normalized()?;
-        let mca = c.add(&a).normalized()?;
-        let child = |x: &Vec3<f64>, y: &Vec3<f64>, z: &Vec3<f64>, digit: u64| {
-            let tri = SphericalTriangle::new(x.clone(), y.clone(), z.clone()).ok()?;
-            Node::new(tri, self.depth + 1, self.code * 4 + digit).ok()
-        };
+        let [a, b, c] = &self.v;
+        let mab = a.add(b).normalized()?;
+        let mbc = b.add(c).normalized()?;
+        let mca = c.add(a).normalized()?;
+        let d = self.depth + 1;
+        let code = self.code * 4;
         Some(Box::new([
-            child(&a, &mab, &mca, 0)?,
-            child(&mab, &b, &mbc, 1)?,
-            child(&mca, &mbc, &c, 2)?,
-            child(&mab, &mbc, &mca, 3)?,
+            Node::new([a.clone(), mab.clone(), mca.clone()], d, code)?,
+            Node::new([mab.clone(), b.clone(), mbc.clone()], d, code + 1)?,
+            Node::new([mca.clone(), mbc.clone(), c.clone()], d, code + 2)?,
+            Node::new([mab, mbc, mca], d, code + 3)?,
         ]))
     }
 }
@@ -648,15 +731,15 @@ impl Node {
 /// The shares `σ⊥(D_i)/Σ_j σ⊥(D_j)` of `nodes` (by solid angle if all
 /// σ⊥ vanish).
 fn shares(nodes: &[Node], out: &mut [f64]) {
-    let total: f64 = nodes.iter().map(|d| d.measures.projected_solid_angle).sum();
+    let total: f64 = nodes.iter().map(|d| d.sigma_perp).sum();
     if total > 0.0 && total.is_finite() {
         for (o, d) in out.iter_mut().zip(nodes) {
-            *o = d.measures.projected_solid_angle / total;
+            *o = d.sigma_perp / total;
         }
     } else {
-        let total: f64 = nodes.iter().map(|d| d.measures.solid_angle).sum();
+        let total: f64 = nodes.iter().map(|d| d.measures().solid_angle).sum();
         for (o, d) in out.iter_mut().zip(nodes) {
-            *o = d.measures.solid_angle / total;
+            *o = d.measures().solid_angle / total;
         }
     }
 }
@@ -806,7 +889,7 @@ impl SampleSet {
 pub const DEFAULT_MAX_DEPTH: u32 = 16;
 
 /// The default depth down to which children are memoized.
-pub const DEFAULT_CACHE_DEPTH: u32 = 7;
+pub const DEFAULT_CACHE_DEPTH: u32 = 8;
 
 /// Adaptive cosine-weighted sampling of a triangle (Ureña 2000): a
 /// generator of sample sets whose density approaches `cos θ/σ⊥` with the
@@ -907,30 +990,31 @@ impl AdaptiveTriangle {
         let below = WarpError::Degenerate {
             what: "triangle below the receiver's horizon (nothing left after clipping)",
         };
-        let tri = |i: usize, j: usize, k: usize| {
-            SphericalTriangle::new(clipped[i].clone(), clipped[j].clone(), clipped[k].clone())
+        // A root must pass both Node::new and SphericalTriangle::new.
+        let root = |i: usize, j: usize, k: usize, code: u64| {
+            let v = [clipped[i].clone(), clipped[j].clone(), clipped[k].clone()];
+            let node = Node::new(v, 0, code)?;
+            node.sampler()?;
+            Some(node)
         };
-        let triangles = match clipped.len() {
-            3 => vec![tri(0, 1, 2).map_err(|_| below.clone())?],
-            4 => match (tri(0, 1, 2), tri(0, 2, 3)) {
-                (Ok(x), Ok(y)) => vec![x, y],
-                _ => match (tri(1, 2, 3), tri(1, 3, 0)) {
-                    (Ok(x), Ok(y)) => vec![x, y],
-                    (Ok(x), Err(_)) | (Err(_), Ok(x)) => vec![x],
+        let roots: Vec<Node> = match clipped.len() {
+            3 => vec![root(0, 1, 2, 0).ok_or(below.clone())?],
+            4 => match (root(0, 1, 2, 0), root(0, 2, 3, 1)) {
+                (Some(x), Some(y)) => vec![x, y],
+                _ => match (root(1, 2, 3, 0), root(1, 3, 0, 1)) {
+                    (Some(x), Some(y)) => vec![x, y],
+                    (Some(x), None) => vec![x],
+                    (None, Some(mut y)) => {
+                        y.code = 0;
+                        vec![y]
+                    }
                     _ => return Err(below),
                 },
             },
             _ => return Err(below),
         };
-        let mut roots = Vec::with_capacity(triangles.len());
-        for (i, t) in triangles.into_iter().enumerate() {
-            roots.push(Node::new(t, 0, i as u64)?);
-        }
-        let projected_solid_angle: f64 = roots
-            .iter()
-            .map(|r| r.measures.projected_solid_angle)
-            .sum();
-        let solid_angle: f64 = roots.iter().map(|r| r.measures.solid_angle).sum();
+        let projected_solid_angle: f64 = roots.iter().map(|r| r.sigma_perp).sum();
+        let solid_angle: f64 = roots.iter().map(|r| r.measures().solid_angle).sum();
         if !(projected_solid_angle > 0.0) || !projected_solid_angle.is_finite() {
             return Err(below);
         }
@@ -1016,7 +1100,8 @@ impl AdaptiveTriangle {
     }
 
     /// The same triangle memoizing children down to `depth` (0 disables
-    /// the cache; memory is up to ~700 bytes × 4^depth per root).
+    /// the cache; memory is up to about 200 bytes × 4^depth per root, plus
+    /// 600 bytes per memoized piece that received samples).
     pub fn with_cache_depth(mut self, depth: u32) -> Self {
         self.cache_depth = depth.min(30);
         self
@@ -1053,7 +1138,7 @@ impl AdaptiveTriangle {
     pub fn roots(&self) -> Vec<([Vec3<f64>; 3], TriangleMeasures<f64>)> {
         self.roots
             .iter()
-            .map(|r| (r.vertices(), r.measures.clone()))
+            .map(|r| (r.v.clone(), r.measures().clone()))
             .collect()
     }
 
@@ -1063,7 +1148,7 @@ impl AdaptiveTriangle {
         self.roots
             .iter()
             .zip(&self.root_shares)
-            .map(|(r, p)| (r.tri.clone(), *p))
+            .filter_map(|(r, p)| Some((r.sampler()?.clone(), *p)))
             .collect()
     }
 
@@ -1075,7 +1160,7 @@ impl AdaptiveTriangle {
     /// The children of `node`: none if it is a piece of the partition
     /// (converged, at the depth cap, or with a degenerate child).
     fn kids<'a>(&self, node: &'a Node) -> Kids<'a> {
-        if node.measures.k < self.threshold || node.depth >= self.max_depth {
+        if node.measures().k < self.threshold || node.depth >= self.max_depth {
             return Kids::Leaf;
         }
         if node.depth < self.cache_depth {
@@ -1175,12 +1260,12 @@ impl AdaptiveTriangle {
                 true
             }
             None => visit(Piece {
-                vertices: node.vertices(),
-                measures: node.measures.clone(),
+                vertices: node.v.clone(),
+                measures: node.measures().clone(),
                 depth: node.depth,
                 code: node.code,
                 probability: prob,
-                capped: !(node.measures.k < self.threshold),
+                capped: !(node.measures().k < self.threshold),
             }),
         }
     }
@@ -1235,22 +1320,37 @@ impl AdaptiveTriangle {
             }
             return;
         }
-        // A leaf: n uniform points in solid angle (Arvo's map).
-        let sigma = node.measures.solid_angle;
+        // A leaf: n uniform points in solid angle (Arvo's map), density
+        // P/Ω with Ω the map's own solid angle.
+        let measures = node.measures();
+        let tri = node.sampler();
+        let sigma = match tri {
+            Some(t) => *t.solid_angle(),
+            None => measures.solid_angle,
+        };
         let pdf = prob / sigma;
         let index = out.leaves.len() as u32;
         out.leaves.push(LeafVisit {
             code: node.code,
             depth: node.depth,
             probability: prob,
-            k: node.measures.k,
-            capped: !(node.measures.k < self.threshold),
+            k: measures.k,
+            capped: !(measures.k < self.threshold),
             count: n,
         });
+        // (Unreachable fallback, see Node::sampler: the centroid direction.)
+        let centroid = node.v[0]
+            .add(&node.v[1])
+            .add(&node.v[2])
+            .normalized()
+            .unwrap_or_else(|| node.v[0].clone());
         for _ in 0..n {
             let u: f64 = rng.random();
             let v: f64 = rng.random();
-            let d = node.tri.map(&u, &v);
+            let d = match tri {
+                Some(t) => t.map(&u, &v),
+                None => centroid.clone(),
+            };
             let cos = d.z.max(0.0);
             let w = cos * sigma / prob;
             let d = match &self.frame {
@@ -1289,7 +1389,7 @@ impl AdaptiveTriangle {
         loop {
             let next = match node {
                 Cow::Borrowed(r) => match self.kids(r) {
-                    Kids::Leaf => return prob / r.measures.solid_angle,
+                    Kids::Leaf => return prob / leaf_solid_angle(r),
                     Kids::Memo(k) => {
                         let (j, pj) = locate(k, &d);
                         prob *= pj;
@@ -1302,7 +1402,7 @@ impl AdaptiveTriangle {
                     }
                 },
                 Cow::Owned(o) => match self.kids(&o) {
-                    Kids::Leaf => return prob / o.measures.solid_angle,
+                    Kids::Leaf => return prob / leaf_solid_angle(&o),
                     Kids::Memo(k) => {
                         let (j, pj) = locate(k, &d);
                         prob *= pj;
@@ -1346,8 +1446,8 @@ fn side(e1: &Vec3<f64>, e2: &Vec3<f64>, p: &Vec3<f64>) -> f64 {
 /// `true` if the unit direction `d` is in the spherical triangle of `node`
 /// (boundary included), by the signs of the three edge determinants.
 fn inside(node: &Node, d: &Vec3<f64>) -> bool {
-    let (a, b, c) = (node.tri.a(), node.tri.b(), node.tri.c());
-    let s = if node.tri.is_counter_clockwise() { 1.0 } else { -1.0 };
+    let [a, b, c] = &node.v;
+    let s = if side(a, b, c) > 0.0 { 1.0 } else { -1.0 };
     s * side(a, b, d) >= 0.0 && s * side(b, c, d) >= 0.0 && s * side(c, a, d) >= 0.0
 }
 
@@ -1359,11 +1459,11 @@ fn locate(kids: &[Node; 4], d: &Vec3<f64>) -> (usize, f64) {
     let mut p = [0.0; 4];
     shares(kids, &mut p);
     let corner = |i: usize| {
-        let t = &kids[i].tri;
+        let [a, b, c] = &kids[i].v;
         let (x, e1, e2) = match i {
-            0 => (t.a(), t.b(), t.c()),
-            1 => (t.b(), t.c(), t.a()),
-            _ => (t.c(), t.a(), t.b()),
+            0 => (a, b, c),
+            1 => (b, c, a),
+            _ => (c, a, b),
         };
         let sd = side(e1, e2, d);
         let sx = side(e1, e2, x);
@@ -1371,6 +1471,14 @@ fn locate(kids: &[Node; 4], d: &Vec3<f64>) -> (usize, f64) {
     };
     let j = (0..3).find(|&i| corner(i)).unwrap_or(3);
     (j, p[j])
+}
+
+/// The solid angle in a leaf's density: its sampler's Ω.
+fn leaf_solid_angle(node: &Node) -> f64 {
+    match node.sampler() {
+        Some(t) => *t.solid_angle(),
+        None => node.measures().solid_angle,
+    }
 }
 
 /// Child `j` of an owned set of children.

@@ -7,7 +7,9 @@ use super::{AdaptiveTriangle, Allocation, PartitionSummary};
 use crate::error::WarpError;
 use crate::estimate::{Stats, job_seed, run_jobs};
 use crate::sampling::jittered;
-use crate::scene::{Emitter, PlanarPolygon, Radiance, Receiver, RectangularPattern, Scene, lambert};
+use crate::scene::{
+    Emitter, PlanarPolygon, Radiance, Receiver, RectangularPattern, Scene, lambert,
+};
 use crate::shapes::ProjectedPolygon;
 use crate::vector::Vec3;
 use crate::warp::Warp;

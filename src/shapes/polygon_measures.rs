@@ -152,7 +152,7 @@ pub(crate) fn turning_parts<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> (
 /// use areawarp::shapes::polygon_measures::solid_angle;
 /// use areawarp::Vec3;
 /// // A small square of side 0.02 at distance 1: about 4·10⁻⁴ sr.
-/// let sq = [
+/// let sq: [Vec3<f64>; 4] = [
 ///     Vec3::new(-0.01, -0.01, 1.0),
 ///     Vec3::new(-0.01, 0.01, 1.0),
 ///     Vec3::new(0.01, 0.01, 1.0),

@@ -72,6 +72,8 @@ type M = Mpfr256;
 // ---------------------------------------------------------------------------
 
 /// A warp built in `f64`, one variant per enum case's value.
+// A few dozen values, built once per study: boxing would buy nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub(crate) enum Built {
     PlanarTriangle(PlanarTriangle<f64>),
@@ -1358,7 +1360,7 @@ impl PrecisionStudy {
              max-norm distance to the **exact** map (robust variant, Newton-converged inversion) of the shape as \
              the type sees it, at the same rounded inputs, evaluated at 256 bits, over the shape's extent, in \
              units of the type's roundoff (2⁻²⁴, 2⁻⁵³); *own* compares with the variant's own map at 256 bits \
-             instead (rounding alone). *κ-ratio* is max error / (16·max(u, κ)), κ the move of the exact map \
+             instead (rounding alone; NaN where that map itself is NaN). *κ-ratio* is max error / (16·max(u, κ)), κ the move of the exact map \
              under a one-ulp change of one input (parameters, u, v): ≤ 1 means as accurate as the inputs allow. \
              *Jacobian* is max |J·pdf − 1| of the variant's map at 256 bits with exact partials (same for both \
              types). *NaN* counts NaN/∞ outputs, *out* points off the shape by more than 4 units (by more than \

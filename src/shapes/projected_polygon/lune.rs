@@ -491,8 +491,6 @@ mod tests {
 /// tangentially in projection (at a vertex on the horizon, F ~ x³). G is
 /// then nearly linear, which is what the fitted cubic and Newton like: F⁻¹
 /// itself has a `y^(1/m)` singularity there that no cubic in y follows.
-/// The domain is `[0, end]`: `x_h` to fit the cubic, the whole lune for the
-/// solvers (G exceeds 1 beyond `x_h`).
 pub(super) struct HalfCdf<'a, T> {
     /// The side's marginal.
     pub base: LuneCdf<'a, T>,
@@ -500,7 +498,7 @@ pub(super) struct HalfCdf<'a, T> {
     pub fh: T,
     /// The order of the zero of F at x = 0.
     pub m: u8,
-    /// The end of the domain.
+    /// The end x_h of the domain.
     pub end: T,
 }
 
@@ -569,13 +567,13 @@ impl<T: Real> SideFit<T> {
         SideFit { cubic, xh, fh, m }
     }
 
-    /// The [`HalfCdf`] of this fit over `base`, on `[0, end]`.
-    pub fn half<'a>(&self, base: LuneCdf<'a, T>, end: T) -> HalfCdf<'a, T> {
+    /// The [`HalfCdf`] of this fit over `base`.
+    pub fn half<'a>(&self, base: LuneCdf<'a, T>) -> HalfCdf<'a, T> {
         HalfCdf {
             base,
             fh: self.fh.clone(),
             m: self.m,
-            end,
+            end: self.xh.clone(),
         }
     }
 }

@@ -454,10 +454,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// inversion, in the transformed half-marginal G of [`SideFit`].
     fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
         let fit = &self.fits[k][side as usize];
-        let lune = &self.lunes[self.active[k]];
-        // The fit covers [0, x_h]; the solvers see the whole lune, so that a
-        // target next to the split is not at the end of their domain.
-        let cdf = fit.half(self.lune_cdf(self.active[k], side), lune.width.clone());
+        let cdf = fit.half(self.lune_cdf(self.active[k], side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         match self.inversion {
@@ -472,9 +469,8 @@ impl<T: Real> ProjectedPolygon<T> {
                     max_iterations: 100,
                     start: None,
                 };
-                if target > T::zero() {
+                if target > T::zero() && target < T::one() {
                     let (lo, hi) = cubic.bracket(&target);
-                    let hi = if hi >= fit.xh { lune.width.clone() } else { hi };
                     let r = newton.solve_in(&cdf, &target, cubic.eval(&target), lo, hi);
                     if r.residual == T::zero() {
                         // Stopped on an exact root right after a step that
@@ -488,7 +484,7 @@ impl<T: Real> ProjectedPolygon<T> {
                         }
                     }
                     r.x
-                } else if fit.m > 1 {
+                } else if target <= T::zero() && fit.m > 1 {
                     // At a vertex where the density vanishes dx/dy is
                     // infinite: x = 0·x_h keeps the value 0 and, over dual
                     // numbers, carries the infinite derivative of the
