@@ -12,7 +12,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "areawarp", version, about = "Area-preserving parametrizations: evaluate, check, report")]
+#[command(
+    name = "areawarp",
+    version,
+    about = "Area-preserving parametrizations: evaluate, check, report"
+)]
 struct Args {
     #[command(subcommand)]
     command: Command,
@@ -51,8 +55,18 @@ enum Command {
 fn main() -> ExitCode {
     let args = Args::parse();
     match args.command {
-        Command::Eval { precision, inverse, variant, newton, file } => {
-            let opts = cli::eval::Options { inverse, literal: variant == "literal", newton };
+        Command::Eval {
+            precision,
+            inverse,
+            variant,
+            newton,
+            file,
+        } => {
+            let opts = cli::eval::Options {
+                inverse,
+                literal: variant == "literal",
+                newton,
+            };
             cli::eval::main(&precision, opts, file.as_deref())
         }
         Command::Report { out, quick } => cli::report::main(&out, quick),

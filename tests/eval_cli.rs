@@ -10,7 +10,16 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 
 const PREC: u32 = 256;
-const UV: [&str; 8] = ["0", "8.673617379884035e-19", "1e-12", "1e-6", "0.5", "0.999999", "0.999999999999", "1"];
+const UV: [&str; 8] = [
+    "0",
+    "8.673617379884035e-19",
+    "1e-12",
+    "1e-6",
+    "0.5",
+    "0.999999",
+    "0.999999999999",
+    "1",
+];
 
 fn f(x: f64) -> Float {
     Float::with_val(PREC, x)
@@ -24,14 +33,23 @@ fn run_eval(args: &[&str], input: &str) -> (String, bool) {
         .stdout(Stdio::piped())
         .spawn()
         .expect("run areawarp");
-    child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
     let out = child.wait_with_output().unwrap();
     (String::from_utf8(out.stdout).unwrap(), out.status.success())
 }
 
 /// The input value as the evaluator sees it in the given precision, exactly.
 fn as_seen(s: &str, prec: &str) -> Float {
-    if prec == "f32" { f(s.parse::<f32>().unwrap() as f64) } else { f(s.parse::<f64>().unwrap()) }
+    if prec == "f32" {
+        f(s.parse::<f32>().unwrap() as f64)
+    } else {
+        f(s.parse::<f64>().unwrap())
+    }
 }
 
 fn two_pi() -> Float {
@@ -58,7 +76,10 @@ fn reference(map: &str, params: &[Float], u: &Float, v: &Float) -> Vec<Float> {
             let (r, phi) = if a.clone().abs() > b.clone().abs() {
                 (a.clone(), quarter_pi * (b / &a))
             } else {
-                (b.clone(), Float::with_val(PREC, Constant::Pi) / 2u32 - quarter_pi * (a / &b))
+                (
+                    b.clone(),
+                    Float::with_val(PREC, Constant::Pi) / 2u32 - quarter_pi * (a / &b),
+                )
             };
             vec![r.clone() * phi.clone().cos(), r * phi.sin()]
         }
@@ -68,7 +89,11 @@ fn reference(map: &str, params: &[Float], u: &Float, v: &Float) -> Vec<Float> {
                 "sphere" => one.clone() - u.clone() * 2u32,
                 _ => {
                     let e = one.clone() / (params[0].clone() + 1u32);
-                    if u.is_zero() { f(0.0) } else { u.clone().pow(&e) }
+                    if u.is_zero() {
+                        f(0.0)
+                    } else {
+                        u.clone().pow(&e)
+                    }
                 }
             };
             let r = (one - z.clone().square()).sqrt();
@@ -91,7 +116,11 @@ fn reference(map: &str, params: &[Float], u: &Float, v: &Float) -> Vec<Float> {
 
 fn check(map: &str, params: &[&str], extent: f64) {
     for prec in ["f32", "f64"] {
-        let unit = if prec == "f32" { f32::EPSILON as f64 / 2.0 } else { f64::EPSILON / 2.0 };
+        let unit = if prec == "f32" {
+            f32::EPSILON as f64 / 2.0
+        } else {
+            f64::EPSILON / 2.0
+        };
         let mut input = String::new();
         let mut cases = Vec::new();
         for u in UV {
@@ -110,13 +139,19 @@ fn check(map: &str, params: &[&str], extent: f64) {
             let mut words = line.split_whitespace();
             assert_eq!(words.next(), Some(map), "{line}");
             let got: Vec<f64> = words.map(|w| w.parse::<f64>().unwrap()).collect();
-            assert!(got.iter().all(|x| x.is_finite()), "{map} {prec} u={u} v={v}: non-finite {line}");
+            assert!(
+                got.iter().all(|x| x.is_finite()),
+                "{map} {prec} u={u} v={v}: non-finite {line}"
+            );
             let want = reference(map, &ps, &as_seen(u, prec), &as_seen(v, prec));
             assert_eq!(got.len(), want.len(), "{line}");
             for (g, w) in got.iter().zip(&want) {
                 let err = (f(*g) - w).abs().to_f64() / extent / unit;
                 worst = worst.max(err);
-                assert!(err <= 16.0, "{map} {prec} u={u} v={v}: {g} vs {w:.20} is {err:.1} units of roundoff");
+                assert!(
+                    err <= 16.0,
+                    "{map} {prec} u={u} v={v}: {g} vs {w:.20} is {err:.1} units of roundoff"
+                );
             }
         }
         println!("{map} {params:?} {prec}: max error {worst:.2} units of roundoff");
@@ -140,8 +175,16 @@ fn spherical_warps_agree_with_independent_mpfr() {
 
 #[test]
 fn planar_triangle_agrees_with_independent_mpfr() {
-    check("planar-triangle", &["0", "0", "0", "1", "0", "0", "0.25", "1", "0"], 1.0);
-    check("planar-triangle", &["1", "2", "3", "-2", "0.5", "1", "0.5", "-1", "2"], 3.0);
+    check(
+        "planar-triangle",
+        &["0", "0", "0", "1", "0", "0", "0.25", "1", "0"],
+        1.0,
+    );
+    check(
+        "planar-triangle",
+        &["1", "2", "3", "-2", "0.5", "1", "0.5", "-1", "2"],
+        3.0,
+    );
 }
 
 #[test]
@@ -171,8 +214,15 @@ fn inverse_round_trips_through_the_cli() {
     assert!(ok, "{back}");
     let expect = [(0.25, 0.75), (0.3, 0.6)];
     for (line, (u, v)) in back.lines().zip(expect) {
-        let w: Vec<f64> = line.split_whitespace().skip(1).map(|x| x.parse().unwrap()).collect();
-        assert!((w[0] - u).abs() < 1e-15 && (w[1] - v).abs() < 1e-15, "{line}");
+        let w: Vec<f64> = line
+            .split_whitespace()
+            .skip(1)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert!(
+            (w[0] - u).abs() < 1e-15 && (w[1] - v).abs() < 1e-15,
+            "{line}"
+        );
     }
 }
 
@@ -187,7 +237,10 @@ fn mpfr_output_round_trips_at_its_precision() {
 }
 
 fn numbers(line: &str) -> Vec<f64> {
-    line.split_whitespace().skip(1).map(|x| x.parse().unwrap()).collect()
+    line.split_whitespace()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect()
 }
 
 #[test]
@@ -202,27 +255,49 @@ fn solid_angle_maps_through_the_cli() {
         let lines: Vec<&str> = out.lines().collect();
         for l in &lines[..3] {
             let p = numbers(l);
-            assert!(((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-15, "{l}");
+            assert!(
+                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-15,
+                "{l}"
+            );
             assert!(p.iter().all(|x| *x >= -1e-16), "{l}: outside the octant");
         }
         for l in &lines[3..] {
             let p = numbers(l);
             assert_eq!(p.len(), 6, "{l}");
-            assert!((p[2] - 1.0).abs() < 1e-15, "{l}: point off the rectangle's plane z = 1");
+            assert!(
+                (p[2] - 1.0).abs() < 1e-15,
+                "{l}: point off the rectangle's plane z = 1"
+            );
             let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
             for i in 0..3 {
-                assert!((p[3 + i] - p[i] / r).abs() < 1e-15, "{l}: direction does not point at the point");
+                assert!(
+                    (p[3 + i] - p[i] / r).abs() < 1e-15,
+                    "{l}: direction does not point at the point"
+                );
             }
         }
         // The forward output pipes straight into --inverse.
-        let back_in: String = lines.iter().zip([tri, tri, tri, rect, rect]).map(|(l, head)| {
-            format!("{head} {}\n", l.split_whitespace().skip(1).collect::<Vec<_>>().join(" "))
-        }).collect();
+        let back_in: String = lines
+            .iter()
+            .zip([tri, tri, tri, rect, rect])
+            .map(|(l, head)| {
+                format!(
+                    "{head} {}\n",
+                    l.split_whitespace().skip(1).collect::<Vec<_>>().join(" ")
+                )
+            })
+            .collect();
         let (back, ok) = run_eval(&["--variant", variant, "--inverse"], &back_in);
         assert!(ok, "{variant}: {back}");
         let uv: Vec<Vec<f64>> = back.lines().map(numbers).collect();
-        assert!((uv[0][0] - 0.3).abs() < 1e-12 && (uv[0][1] - 0.7).abs() < 1e-12, "{back}");
-        assert!((uv[3][0] - 0.3).abs() < 1e-12 && (uv[3][1] - 0.7).abs() < 1e-12, "{back}");
+        assert!(
+            (uv[0][0] - 0.3).abs() < 1e-12 && (uv[0][1] - 0.7).abs() < 1e-12,
+            "{back}"
+        );
+        assert!(
+            (uv[3][0] - 0.3).abs() < 1e-12 && (uv[3][1] - 0.7).abs() < 1e-12,
+            "{back}"
+        );
     }
     for newton in [None, Some("0"), Some("2")] {
         let mut args = vec![];
@@ -233,11 +308,17 @@ fn solid_angle_maps_through_the_cli() {
         assert!(ok, "{out}");
         for l in out.lines() {
             let p = numbers(l);
-            assert!(((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-14, "{l}");
+            assert!(
+                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-14,
+                "{l}"
+            );
             assert!(p[2] >= 0.0, "{l}");
         }
     }
-    let (out, ok) = run_eval(&[], "spherical-triangle 1 0 0 2 0 0 0 0 1 0.5 0.5\nprojected-polygon 2 1 0 0 0 1 0 0.5 0.5\n");
+    let (out, ok) = run_eval(
+        &[],
+        "spherical-triangle 1 0 0 2 0 0 0 0 1 0.5 0.5\nprojected-polygon 2 1 0 0 0 1 0 0.5 0.5\n",
+    );
     assert!(!ok);
     assert!(out.lines().all(|l| l.contains(" error: ")), "{out}");
 }

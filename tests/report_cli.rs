@@ -14,7 +14,11 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         .arg(&dir)
         .output()
         .expect("run areawarp report");
-    assert!(out.status.success(), "report failed:\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "report failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let index = std::fs::read_to_string(dir.join("index.md")).expect("index.md");
     for section in ["Warps at a glance", "Shao", "|---|"] {
         assert!(index.contains(section), "index.md lacks {section:?}");
@@ -33,11 +37,21 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
                 }
             }
             Some("svg") | Some("png") => {
-                let check = verify_figure(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                let check =
+                    verify_figure(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
                 match check.kind {
-                    FigureKind::Svg => assert!(check.marks >= 2, "{}: {} marks", path.display(), check.marks),
+                    FigureKind::Svg => assert!(
+                        check.marks >= 2,
+                        "{}: {} marks",
+                        path.display(),
+                        check.marks
+                    ),
                     FigureKind::Png => {
-                        assert!(check.distinct_colors >= 2, "{}: a single colour", path.display())
+                        assert!(
+                            check.distinct_colors >= 2,
+                            "{}: a single colour",
+                            path.display()
+                        )
                     }
                 }
                 let name = path.file_name().unwrap().to_str().unwrap();

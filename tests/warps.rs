@@ -257,7 +257,10 @@ fn phong_recipe_specs() {
         let label = format!("phong k = {k} recipe (512 bits)");
         let spec = RecipeWarp::new(PhongRecipe::new(k).unwrap(), ClosedForm, ClosedForm);
         let r = check_jacobian_in::<Mpfr<512>, _>(&spec, &extremes_grid()).unwrap();
-        println!("{label:<28} jacobian  max |J·pdf − 1| = {:.3e} (nudged {})", r.max_rel_deviation, r.nudged);
+        println!(
+            "{label:<28} jacobian  max |J·pdf − 1| = {:.3e} (nudged {})",
+            r.max_rel_deviation, r.nudged
+        );
         f.check(r.passes(JACOBIAN_BOUND), &label, &r);
     }
     f.assert_none();

@@ -470,6 +470,9 @@ pub struct StudyRow {
     /// paired ratio is below it sample by sample, since
     /// `w ≤ σ⊥ (1 + k(R))` on every piece.
     pub bound: f64,
+    /// The capped pieces' allowance alone (`bound − 1 − K`, 0 if no sample
+    /// fell in a capped piece).
+    pub capped_allowance: f64,
     /// `max_i w_i/σ⊥ − 1` over all samples (`< K` unless a capped piece
     /// was sampled).
     pub max_weight_excess: f64,
@@ -660,6 +663,7 @@ fn measure_row(
         u_eff_ratio: u_eff / reference.u0,
         u_eff_ratio_se: n as f64 * var_se / reference.u0,
         bound: 1.0 + k_threshold + allowance,
+        capped_allowance: allowance,
         max_weight_excess: max_weight / sp - 1.0,
         capped_samples: capped,
     })
@@ -708,9 +712,8 @@ impl AdaptiveStudy {
             } else {
                 format!("{}", r.k_threshold)
             };
-            let excess = r.bound - 1.0 - r.k_threshold;
-            let allowance = if excess > 0.0 {
-                format!("{excess:.1e} ({} samples)", r.capped_samples)
+            let allowance = if r.capped_samples > 0 {
+                format!("{:.1e} ({} samples)", r.capped_allowance, r.capped_samples)
             } else {
                 "0".to_string()
             };

@@ -7,8 +7,9 @@
 
 use areawarp::real::Real;
 use areawarp::shapes::{
-    ConcentricDisk, Hemisphere, MarginalInversion, PhongLobe, PlanarTriangle, PolarDisk, ProjectedPolygon, Sphere,
-    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+    ConcentricDisk, Hemisphere, MarginalInversion, PhongLobe, PlanarTriangle, PolarDisk,
+    ProjectedPolygon, Sphere, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
+    SphericalTriangleVariant,
 };
 use areawarp::{Coords, Vec3, Warp};
 use std::io::{BufRead, BufReader, Write};
@@ -48,7 +49,9 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
         p if p.starts_with("mpfr:") => match mpfr_evaluator(&p[5..]) {
             Some(f) => f,
             None => {
-                eprintln!("error: unsupported precision {p}: BITS must be one of 64, 113, 128, 192, 256, 512, 1024");
+                eprintln!(
+                    "error: unsupported precision {p}: BITS must be one of 64, 113, 128, 192, 256, 512, 1024"
+                );
                 return ExitCode::from(2);
             }
         },
@@ -80,7 +83,11 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    if failed { ExitCode::FAILURE } else { ExitCode::SUCCESS }
+    if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 #[cfg(feature = "mpfr")]
@@ -124,9 +131,13 @@ fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, Stri
     match name {
         "spherical-triangle" => {
             expect(n, 9, inverse, 3)?;
-            let variant =
-                if opts.literal { SphericalTriangleVariant::Literal } else { SphericalTriangleVariant::Robust };
-            let w = SphericalTriangle::new_with(vec3(0), vec3(3), vec3(6), variant).map_err(|e| e.to_string())?;
+            let variant = if opts.literal {
+                SphericalTriangleVariant::Literal
+            } else {
+                SphericalTriangleVariant::Robust
+            };
+            let w = SphericalTriangle::new_with(vec3(0), vec3(3), vec3(6), variant)
+                .map_err(|e| e.to_string())?;
             apply(&w, &n[9..], inverse)
         }
         "spherical-rectangle" => spherical_rectangle(n, opts),
@@ -170,17 +181,41 @@ fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, Stri
 fn spherical_rectangle<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
     let vec3 = |i: usize| Vec3::new(n[i].clone(), n[i + 1].clone(), n[i + 2].clone());
     let tail = n.len().saturating_sub(12);
-    let ok = if opts.inverse { tail == 3 || tail == 6 } else { tail == 2 };
+    let ok = if opts.inverse {
+        tail == 3 || tail == 6
+    } else {
+        tail == 2
+    };
     if n.len() < 12 || !ok {
-        let what = if opts.inverse { "a direction (3) or a point and direction (6)" } else { "u v" };
-        return Err(format!("expected 12 parameters (s, ex, ey, o) then {what}, got {} numbers", n.len()));
+        let what = if opts.inverse {
+            "a direction (3) or a point and direction (6)"
+        } else {
+            "u v"
+        };
+        return Err(format!(
+            "expected 12 parameters (s, ex, ey, o) then {what}, got {} numbers",
+            n.len()
+        ));
     }
-    let variant = if opts.literal { SphericalRectangleVariant::Literal } else { SphericalRectangleVariant::Robust };
-    let w = SphericalRectangle::new_with(vec3(0), vec3(3), vec3(6), vec3(9), variant).map_err(|e| e.to_string())?;
+    let variant = if opts.literal {
+        SphericalRectangleVariant::Literal
+    } else {
+        SphericalRectangleVariant::Robust
+    };
+    let w = SphericalRectangle::new_with(vec3(0), vec3(3), vec3(6), vec3(9), variant)
+        .map_err(|e| e.to_string())?;
     if opts.inverse {
-        let (u, v) = if tail == 6 { w.inverse_point(&vec3(12)) } else { w.inverse(&vec3(12)) }
-            .ok_or("the point is not on the rectangle")?;
-        return Ok(format!("{} {}", u.to_roundtrip_string(), v.to_roundtrip_string()));
+        let (u, v) = if tail == 6 {
+            w.inverse_point(&vec3(12))
+        } else {
+            w.inverse(&vec3(12))
+        }
+        .ok_or("the point is not on the rectangle")?;
+        return Ok(format!(
+            "{} {}",
+            u.to_roundtrip_string(),
+            v.to_roundtrip_string()
+        ));
     }
     let (u, v) = (&n[12], &n[13]);
     check_unit(u, v)?;
@@ -193,13 +228,22 @@ fn spherical_rectangle<T: Real>(n: &[T], opts: &Options) -> Result<String, Strin
 fn projected_polygon<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
     let count = n.first().ok_or("expected the vertex count N")?;
     let k = count.to_f64();
-    if !(k >= 3.0 && k <= 1e6 && k.fract() == 0.0) {
-        return Err(format!("N = {count} is not a vertex count (an integer ≥ 3)"));
+    if !((3.0..=1e6).contains(&k) && k.fract() == 0.0) {
+        return Err(format!(
+            "N = {count} is not a vertex count (an integer ≥ 3)"
+        ));
     }
     let k = k as usize;
     expect(n, 1 + 3 * k, opts.inverse, 3)?;
-    let verts: Vec<Vec3<T>> =
-        (0..k).map(|i| Vec3::new(n[1 + 3 * i].clone(), n[2 + 3 * i].clone(), n[3 + 3 * i].clone())).collect();
+    let verts: Vec<Vec3<T>> = (0..k)
+        .map(|i| {
+            Vec3::new(
+                n[1 + 3 * i].clone(),
+                n[2 + 3 * i].clone(),
+                n[3 + 3 * i].clone(),
+            )
+        })
+        .collect();
     let inversion = match opts.newton {
         None => MarginalInversion::Newton,
         Some(0) => MarginalInversion::Cubic,
@@ -219,7 +263,10 @@ fn check_unit<T: Real>(u: &T, v: &T) -> Result<(), String> {
 }
 
 fn join<T: Real>(xs: &[T]) -> String {
-    xs.iter().map(|c| c.to_roundtrip_string()).collect::<Vec<_>>().join(" ")
+    xs.iter()
+        .map(|c| c.to_roundtrip_string())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 /// Checks the number count: `params` shape parameters, then `u v` or a point of `dim` coordinates.
@@ -228,8 +275,15 @@ fn expect<T>(n: &[T], params: usize, inverse: bool, dim: usize) -> Result<(), St
     if n.len() == want {
         Ok(())
     } else {
-        let tail = if inverse { format!("a point of {dim} coordinates") } else { "u v".to_string() };
-        Err(format!("expected {want} numbers ({params} parameters, then {tail}), got {}", n.len()))
+        let tail = if inverse {
+            format!("a point of {dim} coordinates")
+        } else {
+            "u v".to_string()
+        };
+        Err(format!(
+            "expected {want} numbers ({params} parameters, then {tail}), got {}",
+            n.len()
+        ))
     }
 }
 
@@ -239,7 +293,11 @@ fn apply<T: Real, W: Warp<T>>(w: &W, rest: &[T], inverse: bool) -> Result<String
         c.resize(3, T::zero());
         let p = W::Point::from_vec3(Vec3::new(c[0].clone(), c[1].clone(), c[2].clone()));
         let (u, v) = w.inverse(&p).ok_or("the point is not on the shape")?;
-        Ok(format!("{} {}", u.to_roundtrip_string(), v.to_roundtrip_string()))
+        Ok(format!(
+            "{} {}",
+            u.to_roundtrip_string(),
+            v.to_roundtrip_string()
+        ))
     } else {
         let (u, v) = (&rest[0], &rest[1]);
         check_unit(u, v)?;

@@ -8,8 +8,8 @@ use areawarp::harness::extremes::{extremes_grid, random_points};
 use areawarp::harness::{jacobian, precision, roundtrip};
 use areawarp::real::{Mpfr256, Real};
 use areawarp::shapes::{
-    ConcentricDisk, Hemisphere, PhongLobe, PlanarTriangle, PolarDisk, ProjectedPolygon, Sphere, SphericalRectangle,
-    SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+    ConcentricDisk, Hemisphere, PhongLobe, PlanarTriangle, PolarDisk, ProjectedPolygon, Sphere,
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
 };
 use areawarp::{Vec3, Warp, WarpError, WarpFamily};
 use std::fmt::Write as _;
@@ -52,11 +52,18 @@ pub fn main(out: &Path, quick: bool) -> ExitCode {
 }
 
 /// Runs one step with a progress line on standard error, and times it.
-fn step<R>(name: &str, f: impl FnOnce() -> Result<R, Box<dyn std::error::Error>>) -> Result<R, Box<dyn std::error::Error>> {
+fn step<R>(
+    name: &str,
+    f: impl FnOnce() -> Result<R, Box<dyn std::error::Error>>,
+) -> Result<R, Box<dyn std::error::Error>> {
     eprintln!("[areawarp report] {name} …");
     let start = Instant::now();
     let r = f();
-    eprintln!("[areawarp report] {name}: {} in {:.1} s", if r.is_ok() { "done" } else { "FAILED" }, start.elapsed().as_secs_f64());
+    eprintln!(
+        "[areawarp report] {name}: {} in {:.1} s",
+        if r.is_ok() { "done" } else { "FAILED" },
+        start.elapsed().as_secs_f64()
+    );
     r
 }
 
@@ -86,7 +93,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     let mut all_figures = Vec::new();
 
     let prec = step("precision study", || {
-        let cfg = if quick { precision_study::PrecisionConfig::quick() } else { precision_study::PrecisionConfig::default() };
+        let cfg = if quick {
+            precision_study::PrecisionConfig::quick()
+        } else {
+            precision_study::PrecisionConfig::default()
+        };
         Ok(precision_study::run(&cfg)?)
     })?;
     prec.write_csv(out)?;
@@ -96,7 +107,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let spd = step("speed–accuracy study", || {
-        let cfg = if quick { speed::SpeedConfig::quick() } else { speed::SpeedConfig::default() };
+        let cfg = if quick {
+            speed::SpeedConfig::quick()
+        } else {
+            speed::SpeedConfig::default()
+        };
         Ok(speed::run(&cfg)?)
     })?;
     spd.write_csv(out)?;
@@ -106,7 +121,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let var = step("variance study", || {
-        let cfg = if quick { variance::VarianceConfig::quick() } else { variance::VarianceConfig::default() };
+        let cfg = if quick {
+            variance::VarianceConfig::quick()
+        } else {
+            variance::VarianceConfig::default()
+        };
         Ok(variance::run(&cfg)?)
     })?;
     var.write_csv(out)?;
@@ -116,7 +135,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let sa = step("solid angle of an object", || {
-        let cfg = if quick { solid_angle_of_object::SolidAngleConfig::quick() } else { solid_angle_of_object::SolidAngleConfig::default() };
+        let cfg = if quick {
+            solid_angle_of_object::SolidAngleConfig::quick()
+        } else {
+            solid_angle_of_object::SolidAngleConfig::default()
+        };
         Ok(solid_angle_of_object::run(&cfg)?)
     })?;
     sa.write_csv(out)?;
@@ -133,7 +156,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         all_figures.len()
     );
     std::fs::write(out.join("index.md"), &md)?;
-    eprintln!("[areawarp report] wrote {} ({} figures)", out.join("index.md").display(), all_figures.len());
+    eprintln!(
+        "[areawarp report] wrote {} ({} figures)",
+        out.join("index.md").display(),
+        all_figures.len()
+    );
     Ok(overview_ok)
 }
 
@@ -143,29 +170,86 @@ fn overview(out: &Path, quick: bool) -> Result<(String, bool), Box<dyn std::erro
     points.extend(random_points(if quick { 200 } else { 2000 }, 1));
     let reps = if quick { 3 } else { 7 };
     let v = |x: f64, y: f64, z: f64| Vec3::<f64>::from_f64(x, y, z);
-    let mut rows = Vec::new();
-
-    rows.push(study(&PlanarTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0))?, "planar-triangle (unit)", &points, reps)?);
-    rows.push(study(&PlanarTriangle::new(v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0))?, "planar-triangle (3-D)", &points, reps)?);
-    rows.push(study(&PolarDisk::<f64>::new(), "disk (polar)", &points, reps)?);
-    rows.push(study(&ConcentricDisk::<f64>::new(), "concentric-disk", &points, reps)?);
-    rows.push(study(&Hemisphere::<f64>::new(), "hemisphere", &points, reps)?);
+    let mut rows = vec![
+        study(
+            &PlanarTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0))?,
+            "planar-triangle (unit)",
+            &points,
+            reps,
+        )?,
+        study(
+            &PlanarTriangle::new(v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0))?,
+            "planar-triangle (3-D)",
+            &points,
+            reps,
+        )?,
+        study(&PolarDisk::<f64>::new(), "disk (polar)", &points, reps)?,
+        study(
+            &ConcentricDisk::<f64>::new(),
+            "concentric-disk",
+            &points,
+            reps,
+        )?,
+        study(&Hemisphere::<f64>::new(), "hemisphere", &points, reps)?,
+    ];
     for k in [0.0, 1.0, 1000.0, 1e6] {
-        rows.push(study(&PhongLobe::new(k)?, &format!("phong k={k}"), &points, reps)?);
+        rows.push(study(
+            &PhongLobe::new(k)?,
+            &format!("phong k={k}"),
+            &points,
+            reps,
+        )?);
     }
-    rows.push(study(&Sphere::<f64>::new(), "sphere (Archimedes)", &points, reps)?);
+    rows.push(study(
+        &Sphere::<f64>::new(),
+        "sphere (Archimedes)",
+        &points,
+        reps,
+    )?);
     let (a, b, c) = (v(1.0, 0.1, 0.2), v(0.2, 1.0, 0.1), v(0.1, 0.3, 1.0));
-    for (variant, label) in [(SphericalTriangleVariant::Robust, "robust"), (SphericalTriangleVariant::Literal, "literal")] {
+    for (variant, label) in [
+        (SphericalTriangleVariant::Robust, "robust"),
+        (SphericalTriangleVariant::Literal, "literal"),
+    ] {
         let w = SphericalTriangle::new_with(a.clone(), b.clone(), c.clone(), variant)?;
-        rows.push(study(&w, &format!("spherical-triangle ({label})"), &points, reps)?);
+        rows.push(study(
+            &w,
+            &format!("spherical-triangle ({label})"),
+            &points,
+            reps,
+        )?);
     }
-    let (s0, ex, ey, o) = (v(-1.0, -0.5, 1.0), v(2.0, 0.0, 0.0), v(0.0, 1.5, 0.0), v(0.2, 0.1, 0.0));
-    for (variant, label) in [(SphericalRectangleVariant::Robust, "robust"), (SphericalRectangleVariant::Literal, "literal")] {
-        let w = SphericalRectangle::new_with(s0.clone(), ex.clone(), ey.clone(), o.clone(), variant)?;
-        rows.push(study(&w, &format!("spherical-rectangle ({label})"), &points, reps)?);
+    let (s0, ex, ey, o) = (
+        v(-1.0, -0.5, 1.0),
+        v(2.0, 0.0, 0.0),
+        v(0.0, 1.5, 0.0),
+        v(0.2, 0.1, 0.0),
+    );
+    for (variant, label) in [
+        (SphericalRectangleVariant::Robust, "robust"),
+        (SphericalRectangleVariant::Literal, "literal"),
+    ] {
+        let w =
+            SphericalRectangle::new_with(s0.clone(), ex.clone(), ey.clone(), o.clone(), variant)?;
+        rows.push(study(
+            &w,
+            &format!("spherical-rectangle ({label})"),
+            &points,
+            reps,
+        )?);
     }
-    let square = [v(1.0, 0.0, 0.3), v(0.0, 1.0, 0.6), v(-1.0, 0.0, 0.3), v(0.0, -1.0, 0.6)];
-    rows.push(study(&ProjectedPolygon::new(&square)?, "projected-polygon (Newton)", &points, reps)?);
+    let square = [
+        v(1.0, 0.0, 0.3),
+        v(0.0, 1.0, 0.6),
+        v(-1.0, 0.0, 0.3),
+        v(0.0, -1.0, 0.6),
+    ];
+    rows.push(study(
+        &ProjectedPolygon::new(&square)?,
+        "projected-polygon (Newton)",
+        &points,
+        reps,
+    )?);
 
     let md = render(&rows, points.len());
     std::fs::write(out.join("warps.csv"), render_csv(&rows))?;
@@ -178,7 +262,12 @@ fn overview(out: &Path, quick: bool) -> Result<(String, bool), Box<dyn std::erro
     Ok((md, ok))
 }
 
-fn study<W: WarpFamily<f64>>(w: &W, name: &str, points: &[(f64, f64)], reps: usize) -> Result<Row, WarpError> {
+fn study<W: WarpFamily<f64>>(
+    w: &W,
+    name: &str,
+    points: &[(f64, f64)],
+    reps: usize,
+) -> Result<Row, WarpError> {
     let jac = jacobian::check_jacobian(w, &extremes_grid())?;
     let p64 = precision::check_precision::<f64, W>(w, points)?;
     let p32 = precision::check_precision::<f32, W>(w, points)?;
@@ -201,12 +290,19 @@ fn study<W: WarpFamily<f64>>(w: &W, name: &str, points: &[(f64, f64)], reps: usi
 
 /// Points away from the edges u, v ∈ {0, 1}, where inverses are singular for some warps.
 fn interior(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    points.iter().copied().filter(|&(u, v)| u > 1e-9 && u < 1.0 - 1e-9 && v > 1e-9 && v < 1.0 - 1e-9).collect()
+    points
+        .iter()
+        .copied()
+        .filter(|&(u, v)| u > 1e-9 && u < 1.0 - 1e-9 && v > 1e-9 && v < 1.0 - 1e-9)
+        .collect()
 }
 
 /// Median over `reps` runs of the time per sample of `n` map evaluations.
 fn time_map<T: Real, W: Warp<T>>(w: &W, n: usize, reps: usize) -> f64 {
-    let inputs: Vec<(T, T)> = random_points(n, 7).into_iter().map(|(u, v)| (T::from_f64(u), T::from_f64(v))).collect();
+    let inputs: Vec<(T, T)> = random_points(n, 7)
+        .into_iter()
+        .map(|(u, v)| (T::from_f64(u), T::from_f64(v)))
+        .collect();
     let mut times: Vec<f64> = (0..reps)
         .map(|_| {
             let start = Instant::now();
@@ -233,32 +329,70 @@ fn render(rows: &[Row], npoints: usize) -> String {
          computed at 256 bits with dual numbers. \"bad\" counts NaN/Inf outputs and points off the shape.\n"
     );
     let _ = writeln!(s, "### Precision and Jacobian\n");
-    let _ = writeln!(s, "| warp | Jacobian dev. (256 bits) | f64 max ulps | f64 median | f64 bad | f32 max ulps | f32 median | f32 bad | f64 round trip |");
+    let _ = writeln!(
+        s,
+        "| warp | Jacobian dev. (256 bits) | f64 max ulps | f64 median | f64 bad | f32 max ulps | f32 median | f32 bad | f64 round trip |"
+    );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         let _ = writeln!(
             s,
             "| {} | {:.1e} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} | {:.1e} |",
-            r.name, r.jacobian_max_dev, r.f64_max_ulps, r.f64_median_ulps, r.f64_bad, r.f32_max_ulps, r.f32_median_ulps, r.f32_bad, r.roundtrip_f64
+            r.name,
+            r.jacobian_max_dev,
+            r.f64_max_ulps,
+            r.f64_median_ulps,
+            r.f64_bad,
+            r.f32_max_ulps,
+            r.f32_median_ulps,
+            r.f32_bad,
+            r.roundtrip_f64
         );
     }
-    let _ = writeln!(s, "\n### Speed (ns per sample, median of repeated runs, this machine)\n");
+    let _ = writeln!(
+        s,
+        "\n### Speed (ns per sample, median of repeated runs, this machine)\n"
+    );
     let _ = writeln!(s, "| warp | f32 | f64 | mpfr:256 | mpfr / f64 |");
     let _ = writeln!(s, "|---|---|---|---|---|");
     for r in rows {
-        let _ = writeln!(s, "| {} | {:.1} | {:.1} | {:.0} | {:.0}× |", r.name, r.ns_f32, r.ns_f64, r.ns_mpfr, r.ns_mpfr / r.ns_f64);
+        let _ = writeln!(
+            s,
+            "| {} | {:.1} | {:.1} | {:.0} | {:.0}× |",
+            r.name,
+            r.ns_f32,
+            r.ns_f64,
+            r.ns_mpfr,
+            r.ns_mpfr / r.ns_f64
+        );
     }
-    let _ = writeln!(s, "\nTimings come from one run on a shared machine: compare ratios within this table, not across runs.");
+    let _ = writeln!(
+        s,
+        "\nTimings come from one run on a shared machine: compare ratios within this table, not across runs."
+    );
     s
 }
 
 fn render_csv(rows: &[Row]) -> String {
-    let mut s = String::from("warp,jacobian_dev,f64_max_ulps,f64_median_ulps,f64_bad,f32_max_ulps,f32_median_ulps,f32_bad,roundtrip_f64,ns_f32,ns_f64,ns_mpfr256\n");
+    let mut s = String::from(
+        "warp,jacobian_dev,f64_max_ulps,f64_median_ulps,f64_bad,f32_max_ulps,f32_median_ulps,f32_bad,roundtrip_f64,ns_f32,ns_f64,ns_mpfr256\n",
+    );
     for r in rows {
         let _ = writeln!(
             s,
             "{},{:e},{},{},{},{},{},{},{:e},{},{},{}",
-            r.name, r.jacobian_max_dev, r.f64_max_ulps, r.f64_median_ulps, r.f64_bad, r.f32_max_ulps, r.f32_median_ulps, r.f32_bad, r.roundtrip_f64, r.ns_f32, r.ns_f64, r.ns_mpfr
+            r.name,
+            r.jacobian_max_dev,
+            r.f64_max_ulps,
+            r.f64_median_ulps,
+            r.f64_bad,
+            r.f32_max_ulps,
+            r.f32_median_ulps,
+            r.f32_bad,
+            r.roundtrip_f64,
+            r.ns_f32,
+            r.ns_f64,
+            r.ns_mpfr
         );
     }
     s

@@ -8,6 +8,8 @@
 //!
 //! | study | question |
 //! |---|---|
+//! | [`precision`] (feature `mpfr`) | every warp × variant × {f32, f64} against the exact map at 256 bits on the extremes suite and the hard ladders: error in units of roundoff, NaN/∞, off-shape points, κ-conditioned ratio, 256-bit Jacobian; where the f32 error lives over [0, 1]² |
+//! | [`speed`] (feature `mpfr`) | ns/sample (with and without per-shape construction) against max error for every warp × variant × {f32, f64, mpfr:128, mpfr:256} and every inversion setting; Pareto sets and plots; recommended defaults |
 //! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
 //! | [`variance`] | Ureña, Fajardo & King 2013, Fig. 4/7: relative RMS error vs spp of area, triangle-pair, spherical-rectangle and projected-polygon sampling of a standing rectangular light, with and without MIS; samples at equal error |
 
