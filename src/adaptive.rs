@@ -31,7 +31,7 @@
 //! at every sample, which gives the paper's bound on the second moment,
 //! `U = ∫ f²/p⊥ dσ⊥ ≤ (1 + K) U₀`.
 //!
-//! # Why this is not a [`Warp`](crate::warp::Warp)
+//! # Why this is not a [`Warp`]
 //! The paper's method places the `n` samples *jointly*: a piece receives
 //! `⌊P n⌋` or `⌊P n⌋ + 1` of them, drawn by the allocation rule, so the
 //! k-th sample is not a function of one point of the unit square, and the
@@ -104,13 +104,13 @@ use std::sync::OnceLock;
 /// ```
 /// use areawarp::adaptive::arc_max_cosine;
 /// use areawarp::Vec3;
-/// // The arc from +x to +y through the first quadrant, tilted up by 45°:
-/// // it peaks between its ends.
-/// let a = Vec3::new(1.0, 0.0, 1.0);
-/// let b = Vec3::new(-1.0, 0.0, 1.0);
-/// assert!((arc_max_cosine(&a, &b) - 1.0).abs() < 1e-15); // passes over the pole
-/// let m = arc_max_cosine(&Vec3::new(1.0, -1.0, 1.0), &Vec3::new(1.0, 1.0, 1.0));
-/// assert!(m > 1.0 / 3f64.sqrt());
+/// // A meridian arc over the pole: its maximum is the pole.
+/// let a = Vec3::<f64>::new(1.0, 0.0, 1.0);
+/// let b = Vec3::<f64>::new(-1.0, 0.0, 1.0);
+/// assert!((arc_max_cosine(&a, &b) - 1.0).abs() < 1e-15);
+/// // An arc peaking between its ends, at (1, 0, 1)/√2 by symmetry.
+/// let m = arc_max_cosine(&Vec3::<f64>::new(1.0, -1.0, 1.0), &Vec3::new(1.0, 1.0, 1.0));
+/// assert!((m - 0.5f64.sqrt()).abs() < 1e-15);
 /// ```
 pub fn arc_max_cosine<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> T {
     let (a, b) = (unit_or_nan(a), unit_or_nan(b));
@@ -921,8 +921,13 @@ pub const DEFAULT_CACHE_DEPTH: u32 = 8;
 /// The partition depends on the geometry and `K` only. It is built lazily
 /// where samples go; the children of the pieces above
 /// [`DEFAULT_CACHE_DEPTH`] are memoized (thread-safely) on first use, the
-/// deeper ones recomputed per call. A split costs four
-/// [`SphericalTriangle::new`] and four Lambert sums.
+/// deeper ones recomputed per call. A split costs three normalizations and
+/// four Lambert sums (the σ⊥ shares); σ, m and k are computed for the
+/// children that samples reach, and one [`SphericalTriangle`] per piece that
+/// receives samples. Measured (release, `n = 64`): about 50 ns per sample
+/// for `K = ∞` or a triangle that needs no split, 0.1–0.2 µs at `K = 0.1`,
+/// up to 2 µs at `K = 0.01` and 6 µs at `K = 0.001` for large or low
+/// triangles (`docs/adaptive-triangle.md`).
 #[derive(Clone, Debug)]
 pub struct AdaptiveTriangle {
     threshold: f64,

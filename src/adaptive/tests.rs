@@ -246,7 +246,6 @@ fn adaptive_partition_covers_the_triangle() {
                 assert_eq!(excess, 0.0);
             } else {
                 assert!(excess > 0.0 && excess < 1e-3, "{excess}");
-                eprintln!("excess {excess} {}", pieces.len());
             }
             // Smaller K, finer partition.
             if k < 0.3 {
@@ -714,4 +713,35 @@ fn adaptive_generation_speed() {
             println!("| {name} | {k} | {warm:.0} | {cold:.0} |");
         }
     }
+}
+
+/// The study is deterministic for a fixed seed, whatever the thread count.
+#[test]
+fn adaptive_study_is_deterministic() {
+    let config = StudyConfig {
+        cases: cases_named(&["Ureña §5 scene"]),
+        thresholds: vec![0.1, 0.01],
+        samples: 8,
+        replicates: 24,
+        reference_samples: 1 << 10,
+        piece_limit: 1 << 10,
+        allocation: Allocation::Systematic,
+        seed: 9,
+    };
+    let a = study(&config).unwrap();
+    let b = study(&config).unwrap();
+    assert_eq!(a, b);
+    #[cfg(feature = "studies")]
+    {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        let c = pool.install(|| study(&config).unwrap());
+        assert_eq!(a, c);
+    }
+    let md = a.to_markdown();
+    assert!(md.contains("| Ureña §5 scene | scene | 0.01 |"), "{md}");
+    let other = study(&StudyConfig { seed: 10, ..config }).unwrap();
+    assert_ne!(a.rows[0].mean, other.rows[0].mean);
 }
