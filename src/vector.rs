@@ -133,7 +133,11 @@ impl<T: Real> Vec3<T> {
         // vectors); `norm` itself neither overflows nor underflows.
         let n = self.norm();
         if n > T::zero() && n.is_finite() {
-            Some(Vec3::new(self.x.clone() / &n, self.y.clone() / &n, self.z.clone() / &n))
+            Some(Vec3::new(
+                self.x.clone() / &n,
+                self.y.clone() / &n,
+                self.z.clone() / &n,
+            ))
         } else {
             None
         }

@@ -225,7 +225,11 @@ impl<T: Real> Real for Dual2<T> {
         if h == T::zero() {
             // Not differentiable at the origin; use the one-sided directional
             // derivative |(ẋ, ẏ)| (zero for constants, never NaN).
-            return Dual2 { re: h, du: self.du.hypot(&other.du), dv: self.dv.hypot(&other.dv) };
+            return Dual2 {
+                re: h,
+                du: self.du.hypot(&other.du),
+                dv: self.dv.hypot(&other.dv),
+            };
         }
         let a = self.re.clone() / &h;
         let b = other.re.clone() / &h;
