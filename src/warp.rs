@@ -23,6 +23,16 @@ pub trait Warp<T: Real> {
     fn map(&self, u: &T, v: &T) -> Self::Point;
     /// Density of the returned points at `p`, in M's area or solid-angle measure.
     fn pdf(&self, p: &Self::Point) -> T;
+    /// `(ψ(u, v), pdf(ψ(u, v)))` in one call: what a sampler needs. The
+    /// default evaluates [`Warp::pdf`] at the mapped point; warps whose
+    /// `pdf` must first test that its argument lies on the shape (the
+    /// spherical rectangle) override it with the density they know the
+    /// mapped point has, so that a renderer does not pay for the test.
+    fn map_with_pdf(&self, u: &T, v: &T) -> (Self::Point, T) {
+        let p = self.map(u, v);
+        let pdf = self.pdf(&p);
+        (p, pdf)
+    }
     /// Total (weighted) measure of M: area, solid angle, or ∫ w.
     fn measure(&self) -> T;
     /// ψ⁻¹(p): the `(u, v)` that maps to `p`, or `None` if `p` is not finite or

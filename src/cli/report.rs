@@ -83,7 +83,9 @@ fn figure_links(out: &Path, figs: &[areawarp::figures::Figure], md: &str) -> Str
 }
 
 fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
-    use areawarp::studies::{precision as precision_study, solid_angle_of_object, speed, variance};
+    use areawarp::studies::{
+        light_cost, precision as precision_study, solid_angle_of_object, speed, variance,
+    };
     std::fs::create_dir_all(out)?;
     // Figures sit beside index.md: the studies' Markdown links them by file name.
     let figs = out.to_path_buf();
@@ -119,6 +121,17 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     let section = spd.to_markdown();
     let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
+
+    let cost = step("light-sampling cost (Ureña et al. 2013)", || {
+        let cfg = if quick {
+            light_cost::LightCostConfig::quick()
+        } else {
+            light_cost::LightCostConfig::default()
+        };
+        Ok(light_cost::run(&cfg)?)
+    })?;
+    cost.write_csv(out)?;
+    let _ = writeln!(md, "\n{}", cost.to_markdown());
 
     let var = step("variance study", || {
         let cfg = if quick {

@@ -156,8 +156,8 @@ impl<W: Warp<f64>, F: Fn(&W::Point) -> bool> Strategy for WarpStrategy<W, F> {
     type Point = W::Point;
 
     fn sample(&self, u: f64, v: f64) -> Option<Sample<W::Point>> {
-        let point = self.warp.map(&u, &v);
-        let pdf = usable(self.warp.pdf(&point))?;
+        let (point, pdf) = self.warp.map_with_pdf(&u, &v);
+        let pdf = usable(pdf)?;
         Some(Sample { point, pdf })
     }
 

@@ -133,6 +133,10 @@ pub fn brdf_sampling(
 #[derive(Clone, Debug)]
 pub struct AreaSampling {
     polygon: PlanarPolygon,
+    /// `(v₀, v₁ − v₀, v₃ − v₀)` when the polygon is a parallelogram: then
+    /// `y = v₀ + u e₁ + v e₃` (the usual area sampling of a rectangular
+    /// light) instead of the triangulation.
+    parallelogram: Option<(Vec3<f64>, Vec3<f64>, Vec3<f64>)>,
     triangles: Vec<PlanarTriangle<f64>>,
     cumulative: Vec<f64>,
     origin: Vec3<f64>,
@@ -178,8 +182,16 @@ impl AreaSampling {
         if let Some(last) = cumulative.last_mut() {
             *last = 1.0;
         }
+        let v = polygon.vertices();
+        let parallelogram = (v.len() == 4).then(|| {
+            let (e1, e3) = (v[1].sub(&v[0]), v[3].sub(&v[0]));
+            let off = v[2].sub(&v[1]).sub(&e3).norm();
+            (off <= super::polygon::SHAPE_TOLERANCE * (e1.norm() + e3.norm()))
+                .then(|| (v[0].clone(), e1, e3))
+        });
         Ok(AreaSampling {
             polygon: polygon.clone(),
+            parallelogram: parallelogram.flatten(),
             triangles,
             cumulative,
             origin: origin.clone(),
@@ -188,9 +200,15 @@ impl AreaSampling {
     }
 
     /// A point uniformly distributed on the polygon (density `1/area` in
-    /// the area measure), for `(u, v) ∈ [0, 1]²`.
+    /// the area measure), for `(u, v) ∈ [0, 1]²`: bilinear on a
+    /// parallelogram, else a triangle of the triangulation chosen by `u`
+    /// (∝ area) and the planar-triangle map.
     pub fn sample_point(&self, u: f64, v: f64) -> Vec3<f64> {
         let u = u.clamp(0.0, 1.0);
+        if let Some((o, e1, e3)) = &self.parallelogram {
+            let v = v.clamp(0.0, 1.0);
+            return o.add(&e1.scale(&u)).add(&e3.scale(&v));
+        }
         let i = self
             .cumulative
             .partition_point(|&c| c <= u)
@@ -276,8 +294,9 @@ impl<W: Warp<f64, Point = Vec3<f64>>> Strategy for SolidAngleSampling<W> {
     type Point = Vec3<f64>;
 
     fn sample(&self, u: f64, v: f64) -> Option<Sample<Vec3<f64>>> {
-        let w = self.warp.map(&u, &v).normalized()?;
-        let pdf = usable(self.warp.pdf(&w))?;
+        let (w, pdf) = self.warp.map_with_pdf(&u, &v);
+        let w = w.normalized()?;
+        let pdf = usable(pdf)?;
         Some(Sample { point: w, pdf })
     }
 

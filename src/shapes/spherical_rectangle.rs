@@ -516,6 +516,12 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
         }
     }
 
+    /// The direction of M(u, v) and `1/Ω`, without [`Warp::pdf`]'s test
+    /// that the direction lies on the rectangle (it does, by construction).
+    fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
+        (self.sample(u, v).direction, self.inv_omega.clone())
+    }
+
     /// Ω.
     fn measure(&self) -> T {
         self.omega.clone()

@@ -146,7 +146,7 @@ pub struct Timing {
 }
 
 impl Timing {
-    fn of(mut ns: Vec<f64>, samples: usize) -> Timing {
+    pub(crate) fn of(mut ns: Vec<f64>, samples: usize) -> Timing {
         ns.sort_by(f64::total_cmp);
         let q = |p: f64| -> f64 {
             // Linear interpolation between order statistics.

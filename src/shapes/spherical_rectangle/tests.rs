@@ -845,6 +845,11 @@ fn spherical_rectangle_pdf_consistent() {
                     (s.pdf * w.measure() - 1.0).abs() <= 2.0 * f64::EPSILON,
                     "{name}"
                 );
+                // The sampler's shortcut (no on-shape test) agrees with
+                // the map and the standalone density.
+                let (d, p) = w.map_with_pdf(&u, &v);
+                assert_eq!(d, s.direction, "{name} {variant}");
+                assert_eq!(p, pdf, "{name} {variant} ({u}, {v})");
                 let area = w.pdf_area(&s.point);
                 worst_area = worst_area.max((area / s.pdf_area - 1.0).abs());
             }
