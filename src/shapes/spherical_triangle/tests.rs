@@ -656,7 +656,7 @@ mod mpfr {
     /// Issue 4 item 3 broken down: worst round-trip error and the largest
     /// inherent floor (the exact inverse's move under rounding the
     /// direction to f64) over the points with `v ≥ δ`, per shape and δ.
-    /// `cargo test --release --lib spherical_triangle::tests::mpfr::round_trip_by_distance -- --ignored --nocapture`
+    /// `cargo test --release --lib round_trip_by_distance -- --ignored --nocapture`
     #[test]
     #[ignore = "table printout"]
     fn round_trip_by_distance_from_the_singular_edge() {
