@@ -403,7 +403,12 @@ impl Newton {
                 break;
             }
             if f == T::zero() {
+                // An exact root: the value is final, but over dual numbers
+                // a preceding Newton step left dx/dy off by the residual it
+                // started from; the closing update (which does not move the
+                // value) makes it 1/F'(x).
                 converged = true;
+                newton_last = false;
                 break;
             }
             if iterations >= self.max_iterations {
