@@ -57,6 +57,7 @@ fn step<R>(
     f: impl FnOnce() -> Result<R, Box<dyn std::error::Error>>,
 ) -> Result<R, Box<dyn std::error::Error>> {
     eprintln!("[areawarp report] {name} …");
+    areawarp::estimate::progress::set_label(name);
     let start = Instant::now();
     let r = f();
     eprintln!(
@@ -87,6 +88,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         light_cost, precision as precision_study, solid_angle_of_object, speed, variance,
     };
     std::fs::create_dir_all(out)?;
+    // Progress bars on the long parallel steps (drawn only on a terminal).
+    areawarp::estimate::progress::enable(true);
     // Figures sit beside index.md: the studies' Markdown links them by file name.
     let figs = out.to_path_buf();
     let started = Instant::now();

@@ -76,9 +76,16 @@ where
     F: Fn(usize, &mut Xoshiro256PlusPlus) -> R + Sync,
 {
     use rayon::prelude::*;
+    let tracker = super::progress::Tracker::new(jobs);
     (0..jobs)
         .into_par_iter()
-        .map(|i| job(i, &mut job_rng(seed, i as u64)))
+        .map(|i| {
+            let r = job(i, &mut job_rng(seed, i as u64));
+            if let Some(t) = &tracker {
+                t.tick();
+            }
+            r
+        })
         .collect()
 }
 

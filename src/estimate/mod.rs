@@ -47,6 +47,7 @@
 //! ```
 
 mod jobs;
+pub mod progress;
 mod mis;
 
 pub use jobs::{job_rng, job_seed, run_jobs, run_jobs_sequential};
