@@ -85,7 +85,8 @@ fn figure_links(out: &Path, figs: &[areawarp::figures::Figure], md: &str) -> Str
 
 fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     use areawarp::studies::{
-        light_cost, precision as precision_study, solid_angle_of_object, speed, variance,
+        light_cost, precision as precision_study, sample_figures, solid_angle_of_object, speed,
+        variance,
     };
     std::fs::create_dir_all(out)?;
     // Progress bars on the long parallel steps (drawn only on a terminal).
@@ -96,6 +97,19 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     let (overview_md, overview_ok) = step("warps overview", || overview(out, quick))?;
     let mut md = overview_md;
     let mut all_figures = Vec::new();
+
+    // The papers' sample-distribution figures, re-made from our maps
+    // (milliseconds: the full size also in --quick).
+    let sf = step("sample-distribution figures", || {
+        Ok(sample_figures::run(
+            &sample_figures::SampleFiguresConfig::default(),
+        )?)
+    })?;
+    sf.write_csv(out)?;
+    let f = sf.write_figures(&figs)?;
+    let section = sf.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
 
     let prec = step("precision study", || {
         let cfg = if quick {
