@@ -23,6 +23,25 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
     for section in ["Warps at a glance", "Shao", "|---|"] {
         assert!(index.contains(section), "index.md lacks {section:?}");
     }
+    // Issue 6's figures and tables, by name: the papers' sample
+    // distributions, the speed–accuracy Pareto plot, RMS error against spp,
+    // the f32 error maps, and the light-sampling cost table.
+    for name in [
+        "samples_spherical_triangle_random.svg",
+        "samples_spherical_triangle_jittered.svg",
+        "samples_projected_polygon_jittered.svg",
+        "samples_spherical_rectangle_directions.svg",
+        "samples_spherical_rectangle_points.svg",
+        "speed_pareto.svg",
+        "variance_jittered.svg",
+        "solid_angle_f32_error_uv.svg",
+        "light_cost.csv",
+        "variance_adaptive.svg",
+        "variance_adaptive_curves.csv",
+        "sample_figures.csv",
+    ] {
+        assert!(dir.join(name).is_file(), "the report did not write {name}");
+    }
     let mut csv = 0;
     let mut figures = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {

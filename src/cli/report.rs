@@ -85,8 +85,8 @@ fn figure_links(out: &Path, figs: &[areawarp::figures::Figure], md: &str) -> Str
 
 fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     use areawarp::studies::{
-        light_cost, precision as precision_study, sample_figures, solid_angle_of_object, speed,
-        variance,
+        adaptive_comparison, light_cost, precision as precision_study, sample_figures,
+        solid_angle_of_object, speed, variance,
     };
     std::fs::create_dir_all(out)?;
     // Progress bars on the long parallel steps (drawn only on a terminal).
@@ -150,7 +150,7 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     cost.write_csv(out)?;
     let _ = writeln!(md, "\n{}", cost.to_markdown());
 
-    let var = step("variance study", || {
+    let mut var = step("variance study", || {
         let cfg = if quick {
             variance::VarianceConfig::quick()
         } else {
@@ -158,6 +158,15 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         };
         Ok(variance::run(&cfg)?)
     })?;
+    let adaptive = step("adaptive vs stratified (Ureña 2000)", || {
+        let cfg = if quick {
+            adaptive_comparison::AdaptiveComparisonConfig::quick()
+        } else {
+            adaptive_comparison::AdaptiveComparisonConfig::default()
+        };
+        Ok(adaptive_comparison::run(&cfg)?)
+    })?;
+    var.attach(adaptive);
     var.write_csv(out)?;
     let f = var.write_figures(&figs)?;
     let section = var.to_markdown();
