@@ -148,7 +148,6 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         Ok(light_cost::run(&cfg)?)
     })?;
     cost.write_csv(out)?;
-    let _ = writeln!(md, "\n{}", cost.to_markdown());
 
     let mut var = step("variance study", || {
         let cfg = if quick {
@@ -167,6 +166,8 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         Ok(adaptive_comparison::run(&cfg)?)
     })?;
     var.attach(adaptive);
+    // The cost side of Ureña et al.'s claims, listed with them.
+    var.attach(cost.to_section());
     var.write_csv(out)?;
     let f = var.write_figures(&figs)?;
     let section = var.to_markdown();

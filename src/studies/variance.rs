@@ -1940,14 +1940,18 @@ impl VarianceStudy {
             }
         }
 
-        out.push(Claim {
+        // The cost claim is measured by `light_cost` when its section is
+        // attached (slug `cost`).
+        if !self.extra.iter().any(|e| e.slug == "cost") {
+            out.push(Claim {
             source: "Ureña, Fajardo & King 2013, §4".to_string(),
             statement:
                 "sampling the spherical rectangle costs only a few percent more than area sampling"
                     .to_string(),
-            measured: "not a variance question: see the speed–accuracy study".to_string(),
+            measured: "not measured here: attach `light_cost::LightCost::to_section`".to_string(),
             verdict: Verdict::NotMeasured,
         });
+        }
         for e in &self.extra {
             out.extend(e.claims.iter().cloned());
         }
