@@ -47,8 +47,9 @@
 //! ```
 
 mod jobs;
-pub mod progress;
 mod mis;
+#[cfg(feature = "studies")]
+pub mod progress;
 
 pub use jobs::{job_rng, job_seed, run_jobs, run_jobs_sequential};
 pub use mis::{Heuristic, Mis, MisEstimate};
