@@ -318,6 +318,13 @@ mod accuracy {
         /// coordinate of the direction (resp. point) rounded to T.
         pub roundtrip_ratio: f64,
         pub roundtrip_point_ratio: f64,
+        /// max over points of the round-trip error over
+        /// max(1e-12, 16·max(u_T, κ_inv)) at that point, through the
+        /// direction and the point: ≤ 1 when every point meets issue 4's
+        /// 1e-12 or, where the data cannot determine (u, v) that well, 16×
+        /// its own floor.
+        pub roundtrip_excess: f64,
+        pub roundtrip_point_excess: f64,
         pub roundtrip_failures: usize,
     }
 
@@ -386,12 +393,15 @@ mod accuracy {
                 let q = if which == 0 { &d } else { &p };
                 let k = inverse_kappa(&wref, which == 0, q, uv, format);
                 let ratio = e / (16.0 * ut.max(k));
+                let excess = e / (16.0 * ut.max(k)).max(1e-12);
                 if which == 0 {
                     row.roundtrip = row.roundtrip.max(e);
                     row.roundtrip_ratio = row.roundtrip_ratio.max(ratio);
+                    row.roundtrip_excess = row.roundtrip_excess.max(excess);
                 } else {
                     row.roundtrip_point = row.roundtrip_point.max(e);
                     row.roundtrip_point_ratio = row.roundtrip_point_ratio.max(ratio);
+                    row.roundtrip_point_excess = row.roundtrip_point_excess.max(excess);
                 }
             }
         }
@@ -454,9 +464,9 @@ mod accuracy {
             "NaN",
             "out",
             "rt(dir)",
-            "rt/bd",
+            "rt/lim",
             "rt(pt)",
-            "rt/bd"
+            "rt/lim"
         );
     }
 
@@ -478,9 +488,9 @@ mod accuracy {
             r.non_finite,
             r.outside,
             r.roundtrip,
-            r.roundtrip_ratio,
+            r.roundtrip_excess,
             r.roundtrip_point,
-            r.roundtrip_point_ratio
+            r.roundtrip_point_excess
         );
     }
 
@@ -538,11 +548,11 @@ mod accuracy {
             assert!(r.dir_ratio <= 1.0 && r.point_ratio <= 1.0, "{r:?}");
             assert_eq!(r.roundtrip_failures, 0, "{r:?}");
             if f64_round_trip {
-                assert!(
-                    r.roundtrip_point <= 1e-12 || r.roundtrip_point_ratio <= 1.0,
-                    "{r:?}"
-                );
-                assert!(r.roundtrip <= 1e-12 || r.roundtrip_ratio <= 16.0, "{r:?}");
+                // Point by point: within 1e-12, or within 16 times the
+                // floor the f64 data leave (the exact inverse's move under
+                // one ulp of the direction or point).
+                assert!(r.roundtrip_point_excess <= 1.0, "{r:?}");
+                assert!(r.roundtrip_excess <= 1.0, "{r:?}");
                 if ordinary.contains(&r.name) {
                     assert!(r.roundtrip <= 1e-12 && r.roundtrip_point <= 1e-12, "{r:?}");
                 }
