@@ -2,7 +2,7 @@
 //!
 //! - `areawarp eval [--precision f32|f64|mpfr:BITS] [--inverse] [FILE]`: a
 //!   line-oriented evaluator of the warps, for scripts and cross-checks.
-//! - `areawarp report [--out DIR] [--quick]`: runs the precision, Jacobian and
+//! - `areawarp report [--out DIR] [--quick | --large]`: runs the precision, Jacobian and
 //!   speed measurements over every warp and writes a Markdown report.
 
 mod cli;
@@ -46,9 +46,13 @@ enum Command {
         /// Output directory.
         #[arg(long, default_value = "report")]
         out: PathBuf,
-        /// Fewer timing repetitions (for a quick look).
-        #[arg(long)]
+        /// A quick run: small sizes, seconds (for a look; the tests use it).
+        #[arg(long, conflicts_with = "large")]
         quick: bool,
+        /// A large run: 4× the runs of the variance studies and more
+        /// samples and timing repetitions elsewhere (several minutes).
+        #[arg(long)]
+        large: bool,
     },
 }
 
@@ -69,6 +73,15 @@ fn main() -> ExitCode {
             };
             cli::eval::main(&precision, opts, file.as_deref())
         }
-        Command::Report { out, quick } => cli::report::main(&out, quick),
+        Command::Report { out, quick, large } => {
+            let size = if quick {
+                cli::report::Size::Quick
+            } else if large {
+                cli::report::Size::Large
+            } else {
+                cli::report::Size::Default
+            };
+            cli::report::main(&out, size)
+        }
     }
 }

@@ -34,9 +34,32 @@ struct Row {
     ns_mpfr: f64,
 }
 
+/// How large a run: `--quick` (seconds, for a look and the tests), the
+/// default (the README's main job, about a minute and a half on 2 cores),
+/// `--large` (several times the runs and samples, for tighter error bars).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Size {
+    /// `--quick`.
+    Quick,
+    /// The default.
+    Default,
+    /// `--large`.
+    Large,
+}
+
+impl Size {
+    fn flag(&self) -> &'static str {
+        match self {
+            Size::Quick => " --quick",
+            Size::Default => "",
+            Size::Large => " --large",
+        }
+    }
+}
+
 /// Entry point of `areawarp report`.
-pub fn main(out: &Path, quick: bool) -> ExitCode {
-    match run(out, quick) {
+pub fn main(out: &Path, size: Size) -> ExitCode {
+    match run(out, size) {
         Ok(ok) => {
             if ok {
                 ExitCode::SUCCESS
@@ -83,7 +106,9 @@ fn figure_links(out: &Path, figs: &[areawarp::figures::Figure], md: &str) -> Str
     s
 }
 
-fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
+fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
+    let quick = size == Size::Quick;
+    let large = size == Size::Large;
     use areawarp::studies::{
         adaptive_comparison, light_cost, precision as precision_study, sample_figures,
         solid_angle_of_object, speed, variance,
@@ -94,7 +119,7 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     // Figures sit beside index.md: the studies' Markdown links them by file name.
     let figs = out.to_path_buf();
     let started = Instant::now();
-    let (overview_md, overview_ok) = step("warps overview", || overview(out, quick))?;
+    let (overview_md, overview_ok) = step("warps overview", || overview(out, size))?;
     let mut md = overview_md;
     let mut all_figures = Vec::new();
 
@@ -112,11 +137,14 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let prec = step("precision study", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             precision_study::PrecisionConfig::quick()
         } else {
             precision_study::PrecisionConfig::default()
         };
+        if large {
+            cfg.random_points *= 4;
+        }
         Ok(precision_study::run(&cfg)?)
     })?;
     prec.write_csv(out)?;
@@ -126,11 +154,16 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let spd = step("speed–accuracy study", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             speed::SpeedConfig::quick()
         } else {
             speed::SpeedConfig::default()
         };
+        if large {
+            cfg.repetitions = 2 * cfg.repetitions + 1;
+            cfg.mpfr_repetitions = 2 * cfg.mpfr_repetitions + 1;
+            cfg.error_random_points *= 4;
+        }
         Ok(speed::run(&cfg)?)
     })?;
     spd.write_csv(out)?;
@@ -140,29 +173,40 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let cost = step("light-sampling cost (Ureña et al. 2013)", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             light_cost::LightCostConfig::quick()
         } else {
             light_cost::LightCostConfig::default()
         };
+        if large {
+            cfg.repetitions = 2 * cfg.repetitions + 1;
+            cfg.rows *= 2;
+        }
         Ok(light_cost::run(&cfg)?)
     })?;
     cost.write_csv(out)?;
 
     let mut var = step("variance study", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             variance::VarianceConfig::quick()
         } else {
             variance::VarianceConfig::default()
         };
+        if large {
+            cfg.runs *= 4;
+            cfg.max_log2_spp += 2;
+        }
         Ok(variance::run(&cfg)?)
     })?;
     let adaptive = step("adaptive vs stratified (Ureña 2000)", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             adaptive_comparison::AdaptiveComparisonConfig::quick()
         } else {
             adaptive_comparison::AdaptiveComparisonConfig::default()
         };
+        if large {
+            cfg.runs *= 4;
+        }
         Ok(adaptive_comparison::run(&cfg)?)
     })?;
     var.attach(adaptive);
@@ -175,11 +219,14 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     all_figures.extend(f);
 
     let sa = step("solid angle of an object", || {
-        let cfg = if quick {
+        let mut cfg = if quick {
             solid_angle_of_object::SolidAngleConfig::quick()
         } else {
             solid_angle_of_object::SolidAngleConfig::default()
         };
+        if large {
+            cfg.repetitions *= 4;
+        }
         Ok(solid_angle_of_object::run(&cfg)?)
     })?;
     sa.write_csv(out)?;
@@ -192,8 +239,11 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
         let mut cfg = areawarp::adaptive::StudyConfig::standard()?;
         // The standard run (4000 estimates per row, 2²⁰ reference samples)
         // takes minutes; the report uses fewer estimates per row.
-        cfg.replicates = if quick { 100 } else { 1000 };
-        cfg.reference_samples = if quick { 1 << 14 } else { 1 << 18 };
+        // (`--large` keeps the standard size.)
+        if !large {
+            cfg.replicates = if quick { 100 } else { 1000 };
+            cfg.reference_samples = if quick { 1 << 14 } else { 1 << 18 };
+        }
         if quick {
             cfg.thresholds = vec![f64::INFINITY, 0.1, 0.01];
             cfg.piece_limit = 1 << 16;
@@ -205,7 +255,7 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
     let _ = writeln!(
         md,
         "\n---\nGenerated by `areawarp report{}` in {:.0} s ({} figures). Timings are from this run on a shared machine.",
-        if quick { " --quick" } else { "" },
+        size.flag(),
         started.elapsed().as_secs_f64(),
         all_figures.len()
     );
@@ -219,10 +269,14 @@ fn run(out: &Path, quick: bool) -> Result<bool, Box<dyn std::error::Error>> {
 }
 
 /// The first section: every warp's precision, Jacobian and speed at a glance.
-fn overview(out: &Path, quick: bool) -> Result<(String, bool), Box<dyn std::error::Error>> {
+fn overview(out: &Path, size: Size) -> Result<(String, bool), Box<dyn std::error::Error>> {
     let mut points = extremes_grid();
-    points.extend(random_points(if quick { 200 } else { 2000 }, 1));
-    let reps = if quick { 3 } else { 7 };
+    let (random, reps) = match size {
+        Size::Quick => (200, 3),
+        Size::Default => (2000, 7),
+        Size::Large => (8000, 15),
+    };
+    points.extend(random_points(random, 1));
     let v = |x: f64, y: f64, z: f64| Vec3::<f64>::from_f64(x, y, z);
     let mut rows = vec![
         study(
