@@ -1014,6 +1014,37 @@ mod tests {
         assert!(md.contains("| projected-polygon | cubic+2 Newton | mpfr:256 |"));
     }
 
+    /// The errors (not the timings) are identical for 1 and 2 threads.
+    #[cfg(feature = "studies")]
+    #[test]
+    fn speed_errors_are_identical_for_one_and_two_threads() {
+        let config = SpeedConfig {
+            max_shapes: Some(2),
+            ..SpeedConfig::quick()
+        };
+        let errors = |threads: usize| -> Vec<(String, f64, f64, usize, usize)> {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            let study = pool.install(|| run(&config)).expect("runs");
+            study
+                .rows
+                .iter()
+                .map(|r| {
+                    (
+                        format!("{} {} {} {}", r.warp, r.variant, r.scalar, r.worst_shape),
+                        r.max_error,
+                        r.timed_shape_error,
+                        r.non_finite,
+                        r.rejected,
+                    )
+                })
+                .collect()
+        };
+        assert_eq!(errors(1), errors(2));
+    }
+
     #[test]
     fn speed_errors_order_the_scalars() {
         // Structure, not timing: the exact variants' errors shrink with the
