@@ -197,9 +197,9 @@ mod tests {
         // 0.1 is not an f32: the reference must use the f32 shape, so the
         // error stays at the level of the evaluation.
         let w = Parallelogram::new(
-            Vec3::from_f64(0.1, 0.2, 0.3),
-            Vec3::from_f64(1.1, 0.0, 0.0),
-            Vec3::from_f64(0.0, 0.7, 0.3),
+            Vec3::<f64>::new(0.1, 0.2, 0.3),
+            Vec3::<f64>::new(1.1, 0.0, 0.0),
+            Vec3::<f64>::new(0.0, 0.7, 0.3),
         )
         .unwrap();
         let r = check_precision_against::<f32, f64, _>(&w, &random_points(200, 3)).unwrap();

@@ -144,9 +144,9 @@ mod tests {
     #[test]
     fn affine_round_trip_is_tight() {
         let w = Parallelogram::new(
-            Vec3::from_f64(0.0, 0.0, 0.0),
-            Vec3::from_f64(1.0, 0.0, 0.0),
-            Vec3::from_f64(0.5, 1.0, 0.0),
+            Vec3::<f64>::new(0.0, 0.0, 0.0),
+            Vec3::<f64>::new(1.0, 0.0, 0.0),
+            Vec3::<f64>::new(0.5, 1.0, 0.0),
         )
         .unwrap();
         let r = check_roundtrip::<f64, _>(&w, &random_points(200, 5)).unwrap();
