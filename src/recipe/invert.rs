@@ -695,7 +695,11 @@ impl<T: Real> FittedCubic<T> {
                 update_bracket(&trial, &ft, &mut lo, &mut hi);
             }
         }
-        if polish > 0 && !from_newton {
+        // An exact root reached by a Newton step also gets the closing
+        // update: over dual numbers that step's derivative is off by the
+        // residual it started from; at f = 0 the update moves only the
+        // derivative.
+        if polish > 0 && (!from_newton || f == T::zero()) {
             // Only a move at the rounding level: the polish bracket may be
             // wide, and a Newton point inside it need not be better than x.
             let here = x.clone();

@@ -461,6 +461,13 @@ impl<T: Real> ProjectedPolygon<T> {
         let cdf = fit.half(self.lune_cdf(self.active[k], side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
+        if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
+            // At a vertex where the density vanishes dx/dy is infinite:
+            // x = 0·x_h keeps the value 0 and, over dual numbers, carries
+            // the infinite derivative of the target (y/F_h)^(1/m) instead
+            // of the false zero of the solvers' end case.
+            return target * &fit.xh;
+        }
         match self.inversion {
             MarginalInversion::Cubic => {
                 let (lo, hi) = cubic.bracket(&target);
@@ -474,26 +481,13 @@ impl<T: Real> ProjectedPolygon<T> {
                     start: None,
                 };
                 if target > T::zero() && target < T::one() {
+                    // Started from the fitted cubic inside its bracket; an
+                    // exact root gets the closing update in `solve_in`, so
+                    // dual numbers carry dx/dy = 1/G'(x).
                     let (lo, hi) = cubic.bracket(&target);
-                    let r = newton.solve_in(&cdf, &target, cubic.eval(&target), lo, hi);
-                    if r.residual == T::zero() {
-                        // Stopped on an exact root right after a step that
-                        // started from a poorer iterate: over dual numbers
-                        // that step's derivative is off by the *previous*
-                        // residual. One more update (value unchanged, f = 0)
-                        // carries dx/dy = 1/G'(x).
-                        let d = cdf.pdf(&r.x);
-                        if d > T::zero() && d.is_finite() {
-                            return r.x.clone() - &((cdf.cdf(&r.x) - &target) / &d);
-                        }
-                    }
-                    r.x
-                } else if target <= T::zero() && fit.m > 1 {
-                    // At a vertex where the density vanishes dx/dy is
-                    // infinite: x = 0·x_h keeps the value 0 and, over dual
-                    // numbers, carries the infinite derivative of the
-                    // target (y/F_h)^(1/m) instead of a false zero.
-                    target * &fit.xh
+                    newton
+                        .solve_in(&cdf, &target, cubic.eval(&target), lo, hi)
+                        .x
                 } else {
                     newton.invert(&cdf, &target).x
                 }
