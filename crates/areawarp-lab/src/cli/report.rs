@@ -1,0 +1,507 @@
+//! `areawarp report`: the main job. Runs every study — the warps overview
+//! (precision, Jacobian, speed per warp), the precision and speed–accuracy
+//! studies, the variance study of Ureña et al. 2013, the adaptive sampling of
+//! Ureña 2000 and the solid angle of an object (Shao–Badler) — and writes
+//! `report/index.md` with tables, a CSV file per table and the figures.
+
+use areawarp::harness::extremes::{extremes_grid, random_points};
+use areawarp::harness::{jacobian, precision, roundtrip};
+use areawarp::real::{Mpfr256, Real};
+use areawarp::shapes::{
+    ConcentricDisk, Hemisphere, PhongLobe, PlanarTriangle, PolarDisk, ProjectedPolygon, Sphere,
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+};
+use areawarp::{Vec3, Warp, WarpError, WarpFamily};
+use std::fmt::Write as _;
+use std::hint::black_box;
+use std::path::Path;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// One warp's measured row.
+struct Row {
+    name: String,
+    jacobian_max_dev: f64,
+    f64_max_ulps: f64,
+    f64_median_ulps: f64,
+    f64_bad: usize,
+    f32_max_ulps: f64,
+    f32_median_ulps: f64,
+    f32_bad: usize,
+    roundtrip_f64: f64,
+    ns_f32: f64,
+    ns_f64: f64,
+    ns_mpfr: f64,
+}
+
+/// How large a run: `--quick` (seconds, for a look and the tests), the
+/// default (the README's main job, about a minute and a half on 2 cores),
+/// `--large` (several times the runs and samples, for tighter error bars).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Size {
+    /// `--quick`.
+    Quick,
+    /// The default.
+    Default,
+    /// `--large`.
+    Large,
+}
+
+impl Size {
+    fn flag(&self) -> &'static str {
+        match self {
+            Size::Quick => " --quick",
+            Size::Default => "",
+            Size::Large => " --large",
+        }
+    }
+}
+
+/// Entry point of `areawarp report`.
+pub fn main(out: &Path, size: Size) -> ExitCode {
+    match run(out, size) {
+        Ok(ok) => {
+            if ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Runs one step with a progress line on standard error, and times it.
+fn step<R>(
+    name: &str,
+    f: impl FnOnce() -> Result<R, Box<dyn std::error::Error>>,
+) -> Result<R, Box<dyn std::error::Error>> {
+    eprintln!("[areawarp report] {name} …");
+    crate::progress::set_label(name);
+    let start = Instant::now();
+    let r = f();
+    eprintln!(
+        "[areawarp report] {name}: {} in {:.1} s",
+        if r.is_ok() { "done" } else { "FAILED" },
+        start.elapsed().as_secs_f64()
+    );
+    r
+}
+
+/// Markdown links to the written figures that a study's Markdown does not
+/// already show, relative to the report directory.
+fn figure_links(out: &Path, figs: &[crate::figures::Figure], md: &str) -> String {
+    let mut s = String::new();
+    for f in figs {
+        let rel = f.path.strip_prefix(out).unwrap_or(&f.path);
+        let name = rel.display().to_string();
+        if md.contains(&name) {
+            continue;
+        }
+        let _ = writeln!(s, "![{name}]({name})\n");
+    }
+    s
+}
+
+fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
+    let quick = size == Size::Quick;
+    let large = size == Size::Large;
+    use crate::studies::{
+        adaptive_comparison, light_cost, precision as precision_study, sample_figures,
+        solid_angle_of_object, speed, variance,
+    };
+    std::fs::create_dir_all(out)?;
+    // Progress bars on the long parallel steps (drawn only on a terminal).
+    crate::progress::enable(true);
+    // Figures sit beside index.md: the studies' Markdown links them by file name.
+    let figs = out.to_path_buf();
+    let started = Instant::now();
+    let (overview_md, overview_ok) = step("warps overview", || overview(out, size))?;
+    let mut md = overview_md;
+    let mut all_figures = Vec::new();
+
+    // The papers' sample-distribution figures, re-made from our maps
+    // (milliseconds: the full size also in --quick).
+    let sf = step("sample-distribution figures", || {
+        Ok(sample_figures::run(
+            &sample_figures::SampleFiguresConfig::default(),
+        )?)
+    })?;
+    sf.write_csv(out)?;
+    let f = sf.write_figures(&figs)?;
+    let section = sf.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
+
+    let prec = step("precision study", || {
+        let mut cfg = if quick {
+            precision_study::PrecisionConfig::quick()
+        } else {
+            precision_study::PrecisionConfig::default()
+        };
+        if large {
+            cfg.random_points *= 4;
+        }
+        Ok(precision_study::run(&cfg)?)
+    })?;
+    prec.write_csv(out)?;
+    let f = prec.write_figures(&figs)?;
+    let section = prec.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
+
+    let spd = step("speed–accuracy study", || {
+        let mut cfg = if quick {
+            speed::SpeedConfig::quick()
+        } else {
+            speed::SpeedConfig::default()
+        };
+        if large {
+            cfg.repetitions = 2 * cfg.repetitions + 1;
+            cfg.mpfr_repetitions = 2 * cfg.mpfr_repetitions + 1;
+            cfg.error_random_points *= 4;
+        }
+        Ok(speed::run(&cfg)?)
+    })?;
+    spd.write_csv(out)?;
+    let f = spd.write_figures(&figs)?;
+    let section = spd.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
+
+    let cost = step("light-sampling cost (Ureña et al. 2013)", || {
+        let mut cfg = if quick {
+            light_cost::LightCostConfig::quick()
+        } else {
+            light_cost::LightCostConfig::default()
+        };
+        if large {
+            cfg.repetitions = 2 * cfg.repetitions + 1;
+            cfg.rows *= 2;
+        }
+        Ok(light_cost::run(&cfg)?)
+    })?;
+    cost.write_csv(out)?;
+
+    let mut var = step("variance study", || {
+        let mut cfg = if quick {
+            variance::VarianceConfig::quick()
+        } else {
+            variance::VarianceConfig::default()
+        };
+        if large {
+            cfg.runs *= 4;
+            cfg.max_log2_spp += 2;
+        }
+        Ok(variance::run(&cfg)?)
+    })?;
+    let adaptive = step("adaptive vs stratified (Ureña 2000)", || {
+        let mut cfg = if quick {
+            adaptive_comparison::AdaptiveComparisonConfig::quick()
+        } else {
+            adaptive_comparison::AdaptiveComparisonConfig::default()
+        };
+        if large {
+            cfg.runs *= 4;
+        }
+        Ok(adaptive_comparison::run(&cfg)?)
+    })?;
+    var.attach(adaptive);
+    // The cost side of Ureña et al.'s claims, listed with them.
+    var.attach(cost.to_section());
+    var.write_csv(out)?;
+    let f = var.write_figures(&figs)?;
+    let section = var.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
+
+    let sa = step("solid angle of an object", || {
+        let mut cfg = if quick {
+            solid_angle_of_object::SolidAngleConfig::quick()
+        } else {
+            solid_angle_of_object::SolidAngleConfig::default()
+        };
+        if large {
+            cfg.repetitions *= 4;
+        }
+        Ok(solid_angle_of_object::run(&cfg)?)
+    })?;
+    sa.write_csv(out)?;
+    let f = sa.write_figures(&figs)?;
+    let section = sa.to_markdown();
+    let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
+    all_figures.extend(f);
+
+    let ad = step("adaptive triangle sampling (Ureña 2000)", || {
+        let mut cfg = crate::studies::adaptive_triangle::StudyConfig::standard()?;
+        // The standard run (4000 estimates per row, 2²⁰ reference samples)
+        // takes minutes; the report uses fewer estimates per row.
+        // (`--large` keeps the standard size.)
+        if !large {
+            cfg.replicates = if quick { 100 } else { 1000 };
+            cfg.reference_samples = if quick { 1 << 14 } else { 1 << 18 };
+        }
+        if quick {
+            cfg.thresholds = vec![f64::INFINITY, 0.1, 0.01];
+            cfg.piece_limit = 1 << 16;
+        }
+        Ok(crate::studies::adaptive_triangle::study(&cfg)?)
+    })?;
+    let _ = writeln!(md, "\n{}", ad.to_markdown());
+
+    let _ = writeln!(
+        md,
+        "\n---\nGenerated by `areawarp report{}` in {:.0} s ({} figures). Timings are from this run on a shared machine.",
+        size.flag(),
+        started.elapsed().as_secs_f64(),
+        all_figures.len()
+    );
+    std::fs::write(out.join("index.md"), &md)?;
+    eprintln!(
+        "[areawarp report] wrote {} ({} figures)",
+        out.join("index.md").display(),
+        all_figures.len()
+    );
+    Ok(overview_ok)
+}
+
+/// The first section: every warp's precision, Jacobian and speed at a glance.
+fn overview(out: &Path, size: Size) -> Result<(String, bool), Box<dyn std::error::Error>> {
+    let mut points = extremes_grid();
+    let (random, reps) = match size {
+        Size::Quick => (200, 3),
+        Size::Default => (2000, 7),
+        Size::Large => (8000, 15),
+    };
+    points.extend(random_points(random, 1));
+    let v = |x: f64, y: f64, z: f64| Vec3::<f64>::from_f64(x, y, z);
+    let mut rows = vec![
+        study(
+            &PlanarTriangle::new(v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.25, 1.0, 0.0))?,
+            "planar-triangle (unit)",
+            &points,
+            reps,
+        )?,
+        study(
+            &PlanarTriangle::new(v(1.0, 2.0, 3.0), v(-2.0, 0.5, 1.0), v(0.5, -1.0, 2.0))?,
+            "planar-triangle (3-D)",
+            &points,
+            reps,
+        )?,
+        study(&PolarDisk::<f64>::new(), "disk (polar)", &points, reps)?,
+        study(
+            &ConcentricDisk::<f64>::new(),
+            "concentric-disk",
+            &points,
+            reps,
+        )?,
+        study(&Hemisphere::<f64>::new(), "hemisphere", &points, reps)?,
+    ];
+    for k in [0.0, 1.0, 1000.0, 1e6] {
+        rows.push(study(
+            &PhongLobe::new(k)?,
+            &format!("phong k={k}"),
+            &points,
+            reps,
+        )?);
+    }
+    rows.push(study(
+        &Sphere::<f64>::new(),
+        "sphere (Archimedes)",
+        &points,
+        reps,
+    )?);
+    let (a, b, c) = (v(1.0, 0.1, 0.2), v(0.2, 1.0, 0.1), v(0.1, 0.3, 1.0));
+    for (variant, label) in [
+        (SphericalTriangleVariant::Robust, "robust"),
+        (SphericalTriangleVariant::Literal, "literal"),
+    ] {
+        let w = SphericalTriangle::new_with(a.clone(), b.clone(), c.clone(), variant)?;
+        rows.push(study(
+            &w,
+            &format!("spherical-triangle ({label})"),
+            &points,
+            reps,
+        )?);
+    }
+    let (s0, ex, ey, o) = (
+        v(-1.0, -0.5, 1.0),
+        v(2.0, 0.0, 0.0),
+        v(0.0, 1.5, 0.0),
+        v(0.2, 0.1, 0.0),
+    );
+    for (variant, label) in [
+        (SphericalRectangleVariant::Robust, "robust"),
+        (SphericalRectangleVariant::Literal, "literal"),
+    ] {
+        let w =
+            SphericalRectangle::new_with(s0.clone(), ex.clone(), ey.clone(), o.clone(), variant)?;
+        rows.push(study(
+            &w,
+            &format!("spherical-rectangle ({label})"),
+            &points,
+            reps,
+        )?);
+    }
+    let square = [
+        v(1.0, 0.0, 0.3),
+        v(0.0, 1.0, 0.6),
+        v(-1.0, 0.0, 0.3),
+        v(0.0, -1.0, 0.6),
+    ];
+    rows.push(study(
+        &ProjectedPolygon::new(&square)?,
+        "projected-polygon (Newton)",
+        &points,
+        reps,
+    )?);
+
+    let md = render(&rows, points.len());
+    std::fs::write(out.join("warps.csv"), render_csv(&rows))?;
+    println!("{md}");
+    // The papers' literal algorithms are baselines, expected to fail at the extremes.
+    let ok = rows
+        .iter()
+        .filter(|r| !r.name.contains("literal"))
+        .all(|r| r.jacobian_max_dev <= 1e-60 && r.f64_bad == 0 && r.f32_bad == 0);
+    Ok((md, ok))
+}
+
+fn study<W: WarpFamily<f64>>(
+    w: &W,
+    name: &str,
+    points: &[(f64, f64)],
+    reps: usize,
+) -> Result<Row, WarpError> {
+    let jac = jacobian::check_jacobian(w, &extremes_grid())?;
+    let p64 = precision::check_precision::<f64, W>(w, points)?;
+    let p32 = precision::check_precision::<f32, W>(w, points)?;
+    let rt = roundtrip::check_roundtrip::<f64, W>(w, &interior(points))?;
+    Ok(Row {
+        name: name.to_string(),
+        jacobian_max_dev: jac.max_rel_deviation,
+        f64_max_ulps: p64.max_ulps,
+        f64_median_ulps: p64.median_ulps,
+        f64_bad: p64.non_finite + p64.outside,
+        f32_max_ulps: p32.max_ulps,
+        f32_median_ulps: p32.median_ulps,
+        f32_bad: p32.non_finite + p32.outside,
+        roundtrip_f64: rt.max_error,
+        ns_f32: time_map(&w.at::<f32>()?, 20_000, reps),
+        ns_f64: time_map(&w.at::<f64>()?, 20_000, reps),
+        ns_mpfr: time_map(&w.at::<Mpfr256>()?, 500, reps),
+    })
+}
+
+/// Points away from the edges u, v ∈ {0, 1}, where inverses are singular for some warps.
+fn interior(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .copied()
+        .filter(|&(u, v)| u > 1e-9 && u < 1.0 - 1e-9 && v > 1e-9 && v < 1.0 - 1e-9)
+        .collect()
+}
+
+/// Median over `reps` runs of the time per sample of `n` map evaluations.
+fn time_map<T: Real, W: Warp<T>>(w: &W, n: usize, reps: usize) -> f64 {
+    let inputs: Vec<(T, T)> = random_points(n, 7)
+        .into_iter()
+        .map(|(u, v)| (T::from_f64(u), T::from_f64(v)))
+        .collect();
+    let mut times: Vec<f64> = (0..reps)
+        .map(|_| {
+            let start = Instant::now();
+            for (u, v) in &inputs {
+                black_box(w.map(black_box(u), black_box(v)));
+            }
+            start.elapsed().as_secs_f64() * 1e9 / n as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+fn render(rows: &[Row], npoints: usize) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# areawarp report\n");
+    let _ = writeln!(s, "## Warps at a glance\n");
+    let _ = writeln!(
+        s,
+        "Every warp checked over the extremes grid (u, v ∈ {{0, 2⁻⁶⁰, 1e-12, 1e-6, ½, 1−1e-6, 1−1e-12, 1}}²) \
+         plus random points ({npoints} points in all). Errors are max-norm distances to the 256-bit map at the \
+         same inputs, divided by the shape's extent, in units of the type's unit roundoff (2⁻²⁴ for f32, \
+         2⁻⁵³ for f64). The Jacobian column is max |ψ_u × ψ_v| · pdf(ψ) − 1 over the extremes grid, \
+         computed at 256 bits with dual numbers. \"bad\" counts NaN/Inf outputs and points off the shape.\n"
+    );
+    let _ = writeln!(s, "### Precision and Jacobian\n");
+    let _ = writeln!(
+        s,
+        "| warp | Jacobian dev. (256 bits) | f64 max ulps | f64 median | f64 bad | f32 max ulps | f32 median | f32 bad | f64 round trip |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {:.1e} | {:.2} | {:.2} | {} | {:.2} | {:.2} | {} | {:.1e} |",
+            r.name,
+            r.jacobian_max_dev,
+            r.f64_max_ulps,
+            r.f64_median_ulps,
+            r.f64_bad,
+            r.f32_max_ulps,
+            r.f32_median_ulps,
+            r.f32_bad,
+            r.roundtrip_f64
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n### Speed (ns per sample, median of repeated runs, this machine)\n"
+    );
+    let _ = writeln!(s, "| warp | f32 | f64 | mpfr:256 | mpfr / f64 |");
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {:.1} | {:.1} | {:.0} | {:.0}× |",
+            r.name,
+            r.ns_f32,
+            r.ns_f64,
+            r.ns_mpfr,
+            r.ns_mpfr / r.ns_f64
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nTimings come from one run on a shared machine: compare ratios within this table, not across runs."
+    );
+    s
+}
+
+fn render_csv(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "warp,jacobian_dev,f64_max_ulps,f64_median_ulps,f64_bad,f32_max_ulps,f32_median_ulps,f32_bad,roundtrip_f64,ns_f32,ns_f64,ns_mpfr256\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{:e},{},{},{},{},{},{},{:e},{},{},{}",
+            r.name,
+            r.jacobian_max_dev,
+            r.f64_max_ulps,
+            r.f64_median_ulps,
+            r.f64_bad,
+            r.f32_max_ulps,
+            r.f32_median_ulps,
+            r.f32_bad,
+            r.roundtrip_f64,
+            r.ns_f32,
+            r.ns_f64,
+            r.ns_mpfr
+        );
+    }
+    s
+}

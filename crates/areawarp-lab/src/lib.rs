@@ -1,0 +1,23 @@
+//! # areawarp-lab
+//!
+//! The program around the `areawarp` library: the `areawarp` command
+//! (`eval`, `report`), the studies behind the report, the minimal scene
+//! model they run in, the figure writers, parallel job runs and progress
+//! bars. A renderer never needs this crate; it depends on `areawarp` alone.
+//!
+//! | module | what it holds |
+//! |---|---|
+//! | [`cli`] | the `eval` and `report` subcommands |
+//! | [`studies`] | one module per study of the report |
+//! | [`scene`] | receivers, emitters, occluders and light-sampling strategies for the variance experiments |
+//! | [`figures`] | SVG/PNG line plots, scatter plots and heat maps, and their checker |
+//! | [`jobs`] | [`jobs::run_jobs`]: reproducible parallel estimator jobs on rayon |
+//! | [`progress`] | progress bars for long parallel steps |
+#![deny(missing_docs)]
+
+pub mod cli;
+pub mod figures;
+pub mod jobs;
+pub mod progress;
+pub mod scene;
+pub mod studies;

@@ -1,0 +1,323 @@
+//! `areawarp eval` against an independent evaluation: the closed forms of the
+//! papers written directly with MPFR (`rug`) at 256 bits in this file, not
+//! through the crate's generic code.
+
+use rug::Float;
+use rug::float::Constant;
+use rug::ops::Pow;
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+const PREC: u32 = 256;
+const UV: [&str; 8] = [
+    "0",
+    "8.673617379884035e-19",
+    "1e-12",
+    "1e-6",
+    "0.5",
+    "0.999999",
+    "0.999999999999",
+    "1",
+];
+
+fn f(x: f64) -> Float {
+    Float::with_val(PREC, x)
+}
+
+fn run_eval(args: &[&str], input: &str) -> (String, bool) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_areawarp"))
+        .arg("eval")
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("run areawarp");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    (String::from_utf8(out.stdout).unwrap(), out.status.success())
+}
+
+/// The input value as the evaluator sees it in the given precision, exactly.
+fn as_seen(s: &str, prec: &str) -> Float {
+    if prec == "f32" {
+        f(s.parse::<f32>().unwrap() as f64)
+    } else {
+        f(s.parse::<f64>().unwrap())
+    }
+}
+
+fn two_pi() -> Float {
+    Float::with_val(PREC, Constant::Pi) * 2u32
+}
+
+/// (√u cos 2πv, √u sin 2πv)
+fn polar(r: Float, v: &Float) -> [Float; 2] {
+    let a = two_pi() * v;
+    [r.clone() * a.clone().cos(), r * a.sin()]
+}
+
+fn reference(map: &str, params: &[Float], u: &Float, v: &Float) -> Vec<Float> {
+    let one = f(1.0);
+    match map {
+        "disk" => polar(u.clone().sqrt(), v).to_vec(),
+        "concentric-disk" => {
+            let a = u.clone() * 2u32 - 1u32;
+            let b = v.clone() * 2u32 - 1u32;
+            if a.is_zero() && b.is_zero() {
+                return vec![f(0.0), f(0.0)];
+            }
+            let quarter_pi = Float::with_val(PREC, Constant::Pi) / 4u32;
+            let (r, phi) = if a.clone().abs() > b.clone().abs() {
+                (a.clone(), quarter_pi * (b / &a))
+            } else {
+                (
+                    b.clone(),
+                    Float::with_val(PREC, Constant::Pi) / 2u32 - quarter_pi * (a / &b),
+                )
+            };
+            vec![r.clone() * phi.clone().cos(), r * phi.sin()]
+        }
+        "hemisphere" | "sphere" | "phong" => {
+            let z = match map {
+                "hemisphere" => one.clone() - u,
+                "sphere" => one.clone() - u.clone() * 2u32,
+                _ => {
+                    let e = one.clone() / (params[0].clone() + 1u32);
+                    if u.is_zero() {
+                        f(0.0)
+                    } else {
+                        u.clone().pow(&e)
+                    }
+                }
+            };
+            let r = (one - z.clone().square()).sqrt();
+            let [x, y] = polar(r, v);
+            vec![x, y, z]
+        }
+        "planar-triangle" => {
+            let s = u.clone().sqrt();
+            (0..3)
+                .map(|i| {
+                    (f(1.0) - &s) * &params[i]
+                        + s.clone() * (f(1.0) - v) * &params[3 + i]
+                        + s.clone() * v * &params[6 + i]
+                })
+                .collect()
+        }
+        _ => unreachable!(),
+    }
+}
+
+fn check(map: &str, params: &[&str], extent: f64) {
+    for prec in ["f32", "f64"] {
+        let unit = if prec == "f32" {
+            f32::EPSILON as f64 / 2.0
+        } else {
+            f64::EPSILON / 2.0
+        };
+        let mut input = String::new();
+        let mut cases = Vec::new();
+        for u in UV {
+            for v in UV {
+                input += &format!("{map} {} {u} {v}\n", params.join(" "));
+                cases.push((u, v));
+            }
+        }
+        let (out, ok) = run_eval(&["--precision", prec], &input);
+        assert!(ok, "{map} {prec}: eval failed:\n{out}");
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.len(), cases.len());
+        let ps: Vec<Float> = params.iter().map(|p| as_seen(p, prec)).collect();
+        let mut worst = 0.0f64;
+        for (line, (u, v)) in lines.iter().zip(&cases) {
+            let mut words = line.split_whitespace();
+            assert_eq!(words.next(), Some(map), "{line}");
+            let got: Vec<f64> = words.map(|w| w.parse::<f64>().unwrap()).collect();
+            assert!(
+                got.iter().all(|x| x.is_finite()),
+                "{map} {prec} u={u} v={v}: non-finite {line}"
+            );
+            let want = reference(map, &ps, &as_seen(u, prec), &as_seen(v, prec));
+            assert_eq!(got.len(), want.len(), "{line}");
+            for (g, w) in got.iter().zip(&want) {
+                let err = (f(*g) - w).abs().to_f64() / extent / unit;
+                worst = worst.max(err);
+                assert!(
+                    err <= 16.0,
+                    "{map} {prec} u={u} v={v}: {g} vs {w:.20} is {err:.1} units of roundoff"
+                );
+            }
+        }
+        println!("{map} {params:?} {prec}: max error {worst:.2} units of roundoff");
+    }
+}
+
+#[test]
+fn disks_agree_with_independent_mpfr() {
+    check("disk", &[], 1.0);
+    check("concentric-disk", &[], 1.0);
+}
+
+#[test]
+fn spherical_warps_agree_with_independent_mpfr() {
+    check("hemisphere", &[], 1.0);
+    check("sphere", &[], 1.0);
+    for k in ["0", "1", "1000", "1e6"] {
+        check("phong", &[k], 1.0);
+    }
+}
+
+#[test]
+fn planar_triangle_agrees_with_independent_mpfr() {
+    check(
+        "planar-triangle",
+        &["0", "0", "0", "1", "0", "0", "0.25", "1", "0"],
+        1.0,
+    );
+    check(
+        "planar-triangle",
+        &["1", "2", "3", "-2", "0.5", "1", "0.5", "-1", "2"],
+        3.0,
+    );
+}
+
+#[test]
+fn bad_lines_get_an_error_line_and_a_failing_status() {
+    let input = "# comment\n\nhemisphere 0.5 0.5\nphong -1 0.5 0.5\nnope 1 2\nhemisphere 2 0.5\ndisk x 0.5\n\
+                 planar-triangle 0 0 0 1 1 1 2 2 2 0.5 0.5\nsphere 0.5\n";
+    let (out, ok) = run_eval(&[], input);
+    assert!(!ok);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 7, "{out}");
+    assert!(lines[0].starts_with("hemisphere ") && !lines[0].contains("error"));
+    for l in &lines[1..] {
+        assert!(l.contains(" error: "), "{l}");
+    }
+}
+
+#[test]
+fn inverse_round_trips_through_the_cli() {
+    let (out, ok) = run_eval(&["--precision", "f64"], "sphere 0.25 0.75\ndisk 0.3 0.6\n");
+    assert!(ok);
+    let mut inv = String::new();
+    for line in out.lines() {
+        inv += line;
+        inv.push('\n');
+    }
+    let (back, ok) = run_eval(&["--inverse"], &inv);
+    assert!(ok, "{back}");
+    let expect = [(0.25, 0.75), (0.3, 0.6)];
+    for (line, (u, v)) in back.lines().zip(expect) {
+        let w: Vec<f64> = line
+            .split_whitespace()
+            .skip(1)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert!(
+            (w[0] - u).abs() < 1e-15 && (w[1] - v).abs() < 1e-15,
+            "{line}"
+        );
+    }
+}
+
+#[test]
+fn mpfr_output_round_trips_at_its_precision() {
+    let (out, ok) = run_eval(&["--precision", "mpfr:256"], "disk 0.5 0.125\n");
+    assert!(ok);
+    let w: Vec<&str> = out.split_whitespace().collect();
+    let x = Float::with_val(PREC, Float::parse(w[1]).unwrap());
+    let want = reference("disk", &[], &f(0.5), &f(0.125));
+    assert!((x - &want[0]).abs() < Float::with_val(PREC, Float::i_exp(1, -250)));
+}
+
+fn numbers(line: &str) -> Vec<f64> {
+    line.split_whitespace()
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn solid_angle_maps_through_the_cli() {
+    let tri = "spherical-triangle 1 0 0 0 1 0 0 0 1";
+    let rect = "spherical-rectangle -1 -1 1 2 0 0 0 3 0 0 0 0";
+    let poly = "projected-polygon 4 1 0 0.2 0 1 0.5 -1 0 0.2 0 -1 0.5";
+    for variant in ["robust", "literal"] {
+        let input = format!("{tri} 0.3 0.7\n{tri} 0 0\n{tri} 1 1\n{rect} 0.3 0.7\n{rect} 1 0\n");
+        let (out, ok) = run_eval(&["--variant", variant], &input);
+        assert!(ok, "{variant}: {out}");
+        let lines: Vec<&str> = out.lines().collect();
+        for l in &lines[..3] {
+            let p = numbers(l);
+            assert!(
+                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-15,
+                "{l}"
+            );
+            assert!(p.iter().all(|x| *x >= -1e-16), "{l}: outside the octant");
+        }
+        for l in &lines[3..] {
+            let p = numbers(l);
+            assert_eq!(p.len(), 6, "{l}");
+            assert!(
+                (p[2] - 1.0).abs() < 1e-15,
+                "{l}: point off the rectangle's plane z = 1"
+            );
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            for i in 0..3 {
+                assert!(
+                    (p[3 + i] - p[i] / r).abs() < 1e-15,
+                    "{l}: direction does not point at the point"
+                );
+            }
+        }
+        // The forward output pipes straight into --inverse.
+        let back_in: String = lines
+            .iter()
+            .zip([tri, tri, tri, rect, rect])
+            .map(|(l, head)| {
+                format!(
+                    "{head} {}\n",
+                    l.split_whitespace().skip(1).collect::<Vec<_>>().join(" ")
+                )
+            })
+            .collect();
+        let (back, ok) = run_eval(&["--variant", variant, "--inverse"], &back_in);
+        assert!(ok, "{variant}: {back}");
+        let uv: Vec<Vec<f64>> = back.lines().map(numbers).collect();
+        assert!(
+            (uv[0][0] - 0.3).abs() < 1e-12 && (uv[0][1] - 0.7).abs() < 1e-12,
+            "{back}"
+        );
+        assert!(
+            (uv[3][0] - 0.3).abs() < 1e-12 && (uv[3][1] - 0.7).abs() < 1e-12,
+            "{back}"
+        );
+    }
+    for newton in [None, Some("0"), Some("2")] {
+        let mut args = vec![];
+        if let Some(k) = newton {
+            args = vec!["--newton", k];
+        }
+        let (out, ok) = run_eval(&args, &format!("{poly} 0.3 0.7\n{poly} 0 0\n{poly} 1 1\n"));
+        assert!(ok, "{out}");
+        for l in out.lines() {
+            let p = numbers(l);
+            assert!(
+                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 1.0).abs() < 1e-14,
+                "{l}"
+            );
+            assert!(p[2] >= 0.0, "{l}");
+        }
+    }
+    let (out, ok) = run_eval(
+        &[],
+        "spherical-triangle 1 0 0 2 0 0 0 0 1 0.5 0.5\nprojected-polygon 2 1 0 0 0 1 0 0.5 0.5\n",
+    );
+    assert!(!ok);
+    assert!(out.lines().all(|l| l.contains(" error: ")), "{out}");
+}

@@ -1,0 +1,85 @@
+//! `areawarp report --quick` end to end: it runs every study, writes
+//! `index.md`, a CSV per table, and figures that are valid and non-trivial.
+
+use areawarp_lab::figures::{FigureKind, verify_figure};
+use std::process::Command;
+
+#[test]
+fn quick_report_writes_tables_csv_and_valid_figures() {
+    let dir = std::env::temp_dir().join(format!("areawarp-report-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_areawarp"))
+        .args(["report", "--quick", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run areawarp report");
+    assert!(
+        out.status.success(),
+        "report failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let index = std::fs::read_to_string(dir.join("index.md")).expect("index.md");
+    for section in ["Warps at a glance", "Shao", "|---|"] {
+        assert!(index.contains(section), "index.md lacks {section:?}");
+    }
+    // Issue 6's figures and tables, by name: the papers' sample
+    // distributions, the speed–accuracy Pareto plot, RMS error against spp,
+    // the f32 error maps, and the light-sampling cost table.
+    for name in [
+        "samples_spherical_triangle_random.svg",
+        "samples_spherical_triangle_jittered.svg",
+        "samples_projected_polygon_jittered.svg",
+        "samples_spherical_rectangle_directions.svg",
+        "samples_spherical_rectangle_points.svg",
+        "speed_pareto.svg",
+        "variance_jittered.svg",
+        "solid_angle_f32_error_uv.svg",
+        "light_cost.csv",
+        "variance_adaptive.svg",
+        "variance_adaptive_curves.csv",
+        "sample_figures.csv",
+    ] {
+        assert!(dir.join(name).is_file(), "the report did not write {name}");
+    }
+    let mut csv = 0;
+    let mut figures = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("csv") => {
+                // A header, and data rows (tables of failures may be empty).
+                let text = std::fs::read_to_string(&path).unwrap();
+                assert!(text.lines().count() >= 1, "{} is empty", path.display());
+                if text.lines().count() >= 2 {
+                    csv += 1;
+                }
+            }
+            Some("svg") | Some("png") => {
+                let check =
+                    verify_figure(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                match check.kind {
+                    FigureKind::Svg => assert!(
+                        check.marks >= 2,
+                        "{}: {} marks",
+                        path.display(),
+                        check.marks
+                    ),
+                    FigureKind::Png => {
+                        assert!(
+                            check.distinct_colors >= 2,
+                            "{}: a single colour",
+                            path.display()
+                        )
+                    }
+                }
+                let name = path.file_name().unwrap().to_str().unwrap();
+                assert!(index.contains(name), "index.md does not show {name}");
+                figures += 1;
+            }
+            _ => {}
+        }
+    }
+    assert!(csv >= 5, "only {csv} CSV files with data");
+    assert!(figures >= 10, "only {figures} figures");
+    let _ = std::fs::remove_dir_all(&dir);
+}

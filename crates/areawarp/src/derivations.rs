@@ -1,0 +1,48 @@
+//! The derivations behind every warp, one page each: the five steps of
+//! Arvo's recipe worked out for the shape, the numerical reformulations the
+//! code uses instead of the papers' literal formulas, and the measured
+//! accuracy. They are the files of the crate's `docs/` folder, included
+//! here so that they are part of the rustdoc.
+//!
+//! | page | shape |
+//! |---|---|
+//! | [`recipe`] | Arvo's five-step recipe and which trait is which. |
+//! | [`planar_triangle`] | The planar triangle. |
+//! | [`disk`] | The polar and concentric disks. |
+//! | [`hemisphere`] | The uniform hemisphere. |
+//! | [`phong`] | The Phong lobe (cosine-power hemisphere). |
+//! | [`sphere`] | The sphere by Archimedes' theorem (Shao and Badler 1996). |
+//! | [`spherical_triangle`] | The spherical triangle (Arvo 1995), literal and robust. |
+//! | [`spherical_rectangle`] | The spherical rectangle (Ureña, Fajardo and King 2013), literal and robust. |
+//! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
+//! | [`adaptive_triangle`] | Ureña's (2000) adaptive triangle sampler and its variance bound. |
+
+#[doc = include_str!("../docs/recipe.md")]
+pub mod recipe {}
+
+#[doc = include_str!("../docs/planar-triangle.md")]
+pub mod planar_triangle {}
+
+#[doc = include_str!("../docs/disk.md")]
+pub mod disk {}
+
+#[doc = include_str!("../docs/hemisphere.md")]
+pub mod hemisphere {}
+
+#[doc = include_str!("../docs/phong.md")]
+pub mod phong {}
+
+#[doc = include_str!("../docs/sphere.md")]
+pub mod sphere {}
+
+#[doc = include_str!("../docs/spherical-triangle.md")]
+pub mod spherical_triangle {}
+
+#[doc = include_str!("../docs/spherical-rectangle.md")]
+pub mod spherical_rectangle {}
+
+#[doc = include_str!("../docs/projected-polygon.md")]
+pub mod projected_polygon {}
+
+#[doc = include_str!("../docs/adaptive-triangle.md")]
+pub mod adaptive_triangle {}

@@ -1,0 +1,217 @@
+//! The scalar layer: one trait, [`Real`], implemented by `f32`, `f64`,
+//! `Mpfr<BITS>` (feature `mpfr`) and the forward-mode
+//! dual numbers [`Dual2<T>`] used for exact partial derivatives.
+//!
+//! The trait is `Clone`-based (MPFR floats are heap values, not `Copy`), takes
+//! `&self` in every method and supports arithmetic with a reference on the
+//! right-hand side (`a.clone() * &b`). Constants are built *exactly*, from
+//! integers, ratios and [`Real::pi`], never from decimal `f64` literals: a
+//! literal such as `0.1` would silently cap a 256-bit computation at 53 bits.
+//! Tolerances also come from the type ([`Real::unit_roundoff`]).
+
+mod dual;
+mod float;
+#[cfg(feature = "mpfr")]
+mod mpfr;
+
+pub use dual::Dual2;
+#[cfg(feature = "mpfr")]
+pub use mpfr::{Mpfr, Mpfr128, Mpfr256};
+
+use core::fmt::{Debug, Display};
+use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// A real scalar type: `f32`, `f64`, an MPFR float of fixed precision, or a
+/// dual number over one of these.
+///
+/// Comparison operators compare values (for [`Dual2`], the real parts).
+pub trait Real:
+    Clone
+    + Debug
+    + Display
+    + PartialEq
+    + PartialOrd
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + for<'a> Add<&'a Self, Output = Self>
+    + for<'a> Sub<&'a Self, Output = Self>
+    + for<'a> Mul<&'a Self, Output = Self>
+    + for<'a> Div<&'a Self, Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + DivAssign
+    + for<'a> AddAssign<&'a Self>
+    + for<'a> SubAssign<&'a Self>
+    + for<'a> MulAssign<&'a Self>
+    + for<'a> DivAssign<&'a Self>
+{
+    /// A short name of the type for reports: `f32`, `f64`, `mpfr:256`, ….
+    fn type_name() -> String;
+    /// Number of significand bits `p` (24 for `f32`, 53 for `f64`, `BITS` for MPFR).
+    fn precision() -> u32;
+    /// The integer `n`, exactly (rounded only if `|n|` exceeds the precision).
+    fn from_i64(n: i64) -> Self;
+    /// The ratio `num / den`, correctly rounded.
+    fn from_ratio(num: i64, den: i64) -> Self {
+        Self::from_i64(num) / Self::from_i64(den)
+    }
+    /// Converts an `f64` *value* (data, e.g. a vertex read from input) to this
+    /// type: exact for `f64` and MPFR, rounded to nearest for `f32`.
+    /// Not for constants in generic code: use [`Real::from_ratio`].
+    fn from_f64(x: f64) -> Self;
+    /// Nearest `f64` (for dual numbers: of the real part).
+    fn to_f64(&self) -> f64;
+    /// Parses a decimal string directly in this precision (correctly rounded,
+    /// as `str::parse::<f32>` does for `f32`).
+    fn parse_decimal(s: &str) -> Option<Self>;
+    /// A decimal string that parses back to exactly this value.
+    fn to_roundtrip_string(&self) -> String;
+
+    /// Zero.
+    fn zero() -> Self {
+        Self::from_i64(0)
+    }
+    /// One.
+    fn one() -> Self {
+        Self::from_i64(1)
+    }
+    /// π, correctly rounded.
+    fn pi() -> Self;
+    /// `2^e`, exactly.
+    fn exp2i(e: i32) -> Self;
+    /// The unit roundoff `u = 2^-p`: the relative error bound of one correctly
+    /// rounded operation. Tolerances in generic code are multiples of it.
+    fn unit_roundoff() -> Self {
+        Self::exp2i(-(Self::precision() as i32))
+    }
+    /// Largest finite value.
+    fn max_value() -> Self;
+
+    /// `true` if neither infinite nor NaN.
+    fn is_finite(&self) -> bool;
+    /// `true` if NaN.
+    fn is_nan(&self) -> bool;
+    /// `true` if the sign bit is set (including `-0`).
+    fn is_sign_negative(&self) -> bool;
+
+    /// Absolute value.
+    fn abs(&self) -> Self;
+    /// Square root.
+    fn sqrt(&self) -> Self;
+    /// Cube root.
+    fn cbrt(&self) -> Self;
+    /// `sqrt(self² + other²)` without undue overflow or underflow.
+    fn hypot(&self, other: &Self) -> Self;
+    /// Sine.
+    fn sin(&self) -> Self;
+    /// Cosine.
+    fn cos(&self) -> Self;
+    /// Sine and cosine together.
+    fn sin_cos(&self) -> (Self, Self) {
+        (self.sin(), self.cos())
+    }
+    /// Tangent.
+    fn tan(&self) -> Self;
+    /// Arcsine.
+    fn asin(&self) -> Self;
+    /// Arccosine.
+    fn acos(&self) -> Self;
+    /// Arctangent.
+    fn atan(&self) -> Self;
+    /// Four-quadrant arctangent of `self / x`.
+    fn atan2(&self, x: &Self) -> Self;
+    /// `e^self`.
+    fn exp(&self) -> Self;
+    /// `e^self − 1`, accurate near zero.
+    fn exp_m1(&self) -> Self;
+    /// Natural logarithm.
+    fn ln(&self) -> Self;
+    /// `ln(1 + self)`, accurate near zero.
+    fn ln_1p(&self) -> Self;
+    /// `self^e`.
+    fn powf(&self, e: &Self) -> Self;
+    /// `self^n` for an integer `n`.
+    fn powi(&self, n: i32) -> Self;
+    /// Largest integer not greater than `self`.
+    fn floor(&self) -> Self;
+    /// `|self|` with the sign of `sign`.
+    fn copysign(&self, sign: &Self) -> Self {
+        let a = self.abs();
+        if sign.is_sign_negative() { -a } else { a }
+    }
+    /// `self·a + b` (fused where the type supports it).
+    fn mul_add(&self, a: &Self, b: &Self) -> Self {
+        self.clone() * a + b
+    }
+    /// The smaller of two values (NaN-ignoring like `f64::min`).
+    fn min(&self, other: &Self) -> Self {
+        if other < self || self.is_nan() {
+            other.clone()
+        } else {
+            self.clone()
+        }
+    }
+    /// The larger of two values (NaN-ignoring like `f64::max`).
+    fn max(&self, other: &Self) -> Self {
+        if other > self || self.is_nan() {
+            other.clone()
+        } else {
+            self.clone()
+        }
+    }
+    /// `self` clamped to `[lo, hi]` (NaN maps to `lo`).
+    fn clamp(&self, lo: &Self, hi: &Self) -> Self {
+        if self.is_nan() || self < lo {
+            lo.clone()
+        } else if self > hi {
+            hi.clone()
+        } else {
+            self.clone()
+        }
+    }
+    /// `self²`.
+    fn square(&self) -> Self {
+        self.clone() * self
+    }
+}
+
+/// Scalars `Self` into which the constants of a shape stored as `T` can be
+/// embedded: `T` itself, and [`Dual2<T>`] (a constant with zero derivative).
+///
+/// Generic recipe code written as `fn phi<S: Embed<T>>(&self, s: &S, t: &S)`
+/// runs unchanged in `T` and in dual numbers, which is how
+/// [`Parametrization::partials`](crate::recipe::Parametrization::partials)
+/// gets exact derivatives.
+pub trait Embed<T: Real>: Real {
+    /// `x` as a value of `Self`.
+    fn embed(x: &T) -> Self;
+}
+
+impl<T: Real> Embed<T> for T {
+    #[inline]
+    fn embed(x: &T) -> Self {
+        x.clone()
+    }
+}
+impl<T: Real> Embed<T> for Dual2<T> {
+    fn embed(x: &T) -> Self {
+        Dual2::constant(x.clone())
+    }
+}
+
+/// Converts between two scalar types through their decimal round-trip
+/// representations when needed; exact from `f32`/`f64` into `f64` or MPFR.
+pub fn convert<A: Real, B: Real>(x: &A) -> B {
+    if A::precision() <= 53 {
+        B::from_f64(x.to_f64())
+    } else {
+        B::parse_decimal(&x.to_roundtrip_string()).unwrap_or_else(|| B::from_f64(x.to_f64()))
+    }
+}
