@@ -698,7 +698,7 @@ impl Node {
         self.sampler
             .get_or_init(|| {
                 let [a, b, c] = &self.v;
-                SphericalTriangle::new(a.clone(), b.clone(), c.clone()).ok()
+                SphericalTriangle::new(*a, *b, *c).ok()
             })
             .as_ref()
     }
@@ -714,9 +714,9 @@ impl Node {
         let d = self.depth + 1;
         let code = self.code * 4;
         Some(Box::new([
-            Node::new([a.clone(), mab.clone(), mca.clone()], d, code)?,
-            Node::new([mab.clone(), b.clone(), mbc.clone()], d, code + 1)?,
-            Node::new([mca.clone(), mbc.clone(), c.clone()], d, code + 2)?,
+            Node::new([*a, mab, mca], d, code)?,
+            Node::new([mab, *b, mbc], d, code + 1)?,
+            Node::new([mca, mbc, *c], d, code + 2)?,
             Node::new([mab, mbc, mca], d, code + 3)?,
         ]))
     }
@@ -943,7 +943,7 @@ fn clip_to_horizon(v: &[Vec3<f64>; 3]) -> Vec<Vec3<f64>> {
     for i in 0..3 {
         let (p, q) = (&v[i], &v[(i + 1) % 3]);
         if p.z >= 0.0 {
-            out.push(p.clone());
+            out.push(*p);
         }
         if (p.z > 0.0 && q.z < 0.0) || (p.z < 0.0 && q.z > 0.0) {
             // p_z q − q_z p: a combination of p and q with z = 0 exactly;
@@ -984,14 +984,14 @@ impl AdaptiveTriangle {
             });
         }
         let whole = SphericalTriangle::new(a, b, c)?;
-        let v = [whole.a().clone(), whole.b().clone(), whole.c().clone()];
+        let v = [*whole.a(), *whole.b(), *whole.c()];
         let clipped = clip_to_horizon(&v);
         let below = WarpError::Degenerate {
             what: "triangle below the receiver's horizon (nothing left after clipping)",
         };
         // A root must pass both Node::new and SphericalTriangle::new.
         let root = |i: usize, j: usize, k: usize, code: u64| {
-            let v = [clipped[i].clone(), clipped[j].clone(), clipped[k].clone()];
+            let v = [clipped[i], clipped[j], clipped[k]];
             let node = Node::new(v, 0, code)?;
             node.sampler()?;
             Some(node)
@@ -1137,7 +1137,7 @@ impl AdaptiveTriangle {
     pub fn roots(&self) -> Vec<([Vec3<f64>; 3], TriangleMeasures<f64>)> {
         self.roots
             .iter()
-            .map(|r| (r.v.clone(), r.measures().clone()))
+            .map(|r| (r.v, r.measures().clone()))
             .collect()
     }
 
@@ -1259,7 +1259,7 @@ impl AdaptiveTriangle {
                 true
             }
             None => visit(Piece {
-                vertices: node.v.clone(),
+                vertices: node.v,
                 measures: node.measures().clone(),
                 depth: node.depth,
                 code: node.code,
@@ -1324,7 +1324,7 @@ impl AdaptiveTriangle {
         let measures = node.measures();
         let tri = node.sampler();
         let sigma = match tri {
-            Some(t) => *t.solid_angle(),
+            Some(t) => t.solid_angle(),
             None => measures.solid_angle,
         };
         let pdf = prob / sigma;
@@ -1342,13 +1342,13 @@ impl AdaptiveTriangle {
             .add(&node.v[1])
             .add(&node.v[2])
             .normalized()
-            .unwrap_or_else(|| node.v[0].clone());
+            .unwrap_or_else(|| node.v[0]);
         for _ in 0..n {
             let u: f64 = rng.random();
             let v: f64 = rng.random();
             let d = match tri {
                 Some(t) => t.map(&u, &v),
-                None => centroid.clone(),
+                None => centroid,
             };
             let cos = d.z.max(0.0);
             let w = cos * sigma / prob;
@@ -1372,7 +1372,7 @@ impl AdaptiveTriangle {
     pub fn pdf(&self, direction: &Vec3<f64>) -> f64 {
         let local = match &self.frame {
             Some(f) => f.to_local(direction),
-            None => direction.clone(),
+            None => *direction,
         };
         let Some(d) = local.normalized() else {
             return 0.0;
@@ -1475,7 +1475,7 @@ fn locate(kids: &[Node; 4], d: &Vec3<f64>) -> (usize, f64) {
 /// The solid angle in a leaf's density: its sampler's Ω.
 fn leaf_solid_angle(node: &Node) -> f64 {
     match node.sampler() {
-        Some(t) => *t.solid_angle(),
+        Some(t) => t.solid_angle(),
         None => node.measures().solid_angle,
     }
 }

@@ -37,4 +37,4 @@ pub mod warp;
 pub use error::WarpError;
 pub use real::Real;
 pub use vector::{Coords, Vec2, Vec3};
-pub use warp::{Warp, WarpFamily};
+pub use warp::{InverseError, LightSample, LightWarp, Sample, Warp, WarpFamily};

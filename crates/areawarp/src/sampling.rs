@@ -39,10 +39,12 @@
 //!
 //! let hemisphere = Hemisphere::<f64>::new();
 //!
-//! // Quasi-Monte Carlo: the first 1024 Sobol points carried onto the hemisphere.
+//! // Quasi-Monte Carlo: the first 1024 Sobol points carried onto the
+//! // hemisphere (`sample_uv`: `Distribution::map` shadows `Warp::map` while
+//! // both traits are in scope).
 //! let mean_z: f64 = Sobol2::<f64>::new()
 //!     .take(1024)
-//!     .map(|(u, v)| hemisphere.map(&u, &v).z)
+//!     .map(|(u, v)| hemisphere.sample_uv([u, v]).point.z)
 //!     .sum::<f64>()
 //!     / 1024.0;
 //! assert!((mean_z - 0.5).abs() < 1e-3);
@@ -491,6 +493,7 @@ mod tests {
     use super::*;
     use crate::shapes::Hemisphere;
     use crate::vector::Vec2;
+    use crate::warp::InverseError;
     use rand::SeedableRng;
     use rand::rngs::Xoshiro256PlusPlus;
 
@@ -735,14 +738,14 @@ mod tests {
         fn map(&self, u: &T, v: &T) -> Vec2<T> {
             Vec2::new(u.clone(), v.clone())
         }
-        fn pdf(&self, _p: &Vec2<T>) -> T {
+        fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
             T::one()
         }
         fn measure(&self) -> T {
             T::one()
         }
-        fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-            Some((p.x.clone(), p.y.clone()))
+        fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+            Ok([p.x.clone(), p.y.clone()])
         }
         fn outside_by(&self, _p: &Vec2<T>) -> T {
             T::zero()

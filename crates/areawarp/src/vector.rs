@@ -8,7 +8,7 @@
 use crate::real::Real;
 
 /// A point or vector in the plane.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec2<T> {
     /// First coordinate.
     pub x: T,
@@ -17,7 +17,7 @@ pub struct Vec2<T> {
 }
 
 /// A point or vector in space.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec3<T> {
     /// First coordinate.
     pub x: T,

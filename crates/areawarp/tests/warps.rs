@@ -142,7 +142,7 @@ fn planar_triangle() {
     let mut f = Failures::default();
     for (i, [a, b, c]) in triangles().into_iter().enumerate() {
         let label = format!("triangle #{i}");
-        let w = PlanarTriangle::new(a.clone(), b.clone(), c.clone()).unwrap();
+        let w = PlanarTriangle::new(a, b, c).unwrap();
         jacobian(&mut f, &w, &label);
         precision(&mut f, &w, &label);
         roundtrip(&mut f, &w, &label, PARAM_BOUND);

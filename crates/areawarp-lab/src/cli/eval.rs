@@ -203,12 +203,12 @@ fn spherical_rectangle<T: Real>(n: &[T], opts: &Options) -> Result<String, Strin
     let w = SphericalRectangle::new_with(vec3(0), vec3(3), vec3(6), vec3(9), variant)
         .map_err(|e| e.to_string())?;
     if opts.inverse {
-        let (u, v) = if tail == 6 {
+        let [u, v] = if tail == 6 {
             w.inverse_point(&vec3(12))
         } else {
             w.inverse(&vec3(12))
         }
-        .ok_or("the point is not on the rectangle")?;
+        .map_err(|e| e.to_string())?;
         return Ok(format!(
             "{} {}",
             u.to_roundtrip_string(),
@@ -290,7 +290,7 @@ fn apply<T: Real, W: Warp<T>>(w: &W, rest: &[T], inverse: bool) -> Result<String
         let mut c = rest.to_vec();
         c.resize(3, T::zero());
         let p = W::Point::from_vec3(Vec3::new(c[0].clone(), c[1].clone(), c[2].clone()));
-        let (u, v) = w.inverse(&p).ok_or("the point is not on the shape")?;
+        let [u, v] = w.inverse(&p).map_err(|e| e.to_string())?;
         Ok(format!(
             "{} {}",
             u.to_roundtrip_string(),

@@ -319,7 +319,7 @@ fn overview(out: &Path, size: Size) -> Result<(String, bool), Box<dyn std::error
         (SphericalTriangleVariant::Robust, "robust"),
         (SphericalTriangleVariant::Literal, "literal"),
     ] {
-        let w = SphericalTriangle::new_with(a.clone(), b.clone(), c.clone(), variant)?;
+        let w = SphericalTriangle::new_with(a, b, c, variant)?;
         rows.push(study(
             &w,
             &format!("spherical-triangle ({label})"),
@@ -337,8 +337,7 @@ fn overview(out: &Path, size: Size) -> Result<(String, bool), Box<dyn std::error
         (SphericalRectangleVariant::Robust, "robust"),
         (SphericalRectangleVariant::Literal, "literal"),
     ] {
-        let w =
-            SphericalRectangle::new_with(s0.clone(), ex.clone(), ey.clone(), o.clone(), variant)?;
+        let w = SphericalRectangle::new_with(s0, ex, ey, o, variant)?;
         rows.push(study(
             &w,
             &format!("spherical-rectangle ({label})"),

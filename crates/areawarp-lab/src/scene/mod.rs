@@ -148,7 +148,7 @@ pub fn receivers_on_line(
                 k as f64 / (count - 1) as f64
             };
             let d = near * (far / near).powf(f);
-            Receiver::new(start.add(&dir.scale(&d)), normal.clone())
+            Receiver::new(start.add(&dir.scale(&d)), *normal)
         })
         .collect()
 }
@@ -179,7 +179,7 @@ pub fn receivers_on_grid(
             let s = (i as f64 + 0.5) / count_a as f64;
             let t = (j as f64 + 0.5) / count_b as f64;
             let p = origin.add(&axis_a.scale(&s)).add(&axis_b.scale(&t));
-            out.push(Receiver::new(p, normal.clone())?);
+            out.push(Receiver::new(p, *normal)?);
         }
     }
     Ok(out)

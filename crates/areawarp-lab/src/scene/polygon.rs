@@ -310,7 +310,7 @@ pub fn clip_half_space(vertices: &[Vec3<f64>], normal: &Vec3<f64>, offset: f64) 
         let (a, b) = (&vertices[i], &vertices[(i + 1) % n]);
         let (da, db) = (normal.dot(a) - offset, normal.dot(b) - offset);
         if da >= 0.0 {
-            out.push(a.clone());
+            out.push(*a);
         }
         if (da >= 0.0) != (db >= 0.0) {
             // The crossing point, interpolated from the end inside.

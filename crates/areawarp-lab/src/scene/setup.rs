@@ -81,7 +81,7 @@ pub fn standing_rectangle(
             };
             receivers.push(Receiver::new(
                 r.position().add(&Vec3::new(x, 0.0, 0.0)),
-                up.clone(),
+                up,
             )?);
         }
     }

@@ -158,16 +158,15 @@ impl AreaSampling {
         let mut cumulative = Vec::new();
         let mut total = 0.0;
         for [a, b, c] in polygon.triangles() {
-            match PlanarTriangle::new(a.clone(), b.clone(), c.clone()) {
+            match PlanarTriangle::new(*a, *b, *c) {
                 Ok(t) => {
                     total += t.area();
                     cumulative.push(total);
                     triangles.push(t);
                 }
                 // A sliver carrying no measurable area: skip it.
-                Err(_)
-                    if super::polygon::polygon_area(&[a.clone(), b.clone(), c.clone()])
-                        <= 1e-12 * polygon.area() => {}
+                Err(_) if super::polygon::polygon_area(&[*a, *b, *c]) <= 1e-12 * polygon.area() => {
+                }
                 Err(e) => return Err(e),
             }
         }
@@ -187,14 +186,14 @@ impl AreaSampling {
             let (e1, e3) = (v[1].sub(&v[0]), v[3].sub(&v[0]));
             let off = v[2].sub(&v[1]).sub(&e3).norm();
             (off <= super::polygon::SHAPE_TOLERANCE * (e1.norm() + e3.norm()))
-                .then(|| (v[0].clone(), e1, e3))
+                .then(|| (v[0], e1, e3))
         });
         Ok(AreaSampling {
             polygon: polygon.clone(),
             parallelogram: parallelogram.flatten(),
             triangles,
             cumulative,
-            origin: origin.clone(),
+            origin: *origin,
             inv_area: 1.0 / total,
         })
     }
@@ -280,7 +279,7 @@ impl<W: Warp<f64, Point = Vec3<f64>>> SolidAngleSampling<W> {
         SolidAngleSampling {
             warp,
             support: support.clone(),
-            origin: origin.clone(),
+            origin: *origin,
         }
     }
 
@@ -325,9 +324,9 @@ pub fn spherical_triangles(
     let mut parts = Vec::new();
     let mut weights = Vec::new();
     for [a, b, c] in polygon.triangles() {
-        let t = SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), origin.clone())?;
-        weights.push(*t.solid_angle());
-        let support = PlanarPolygon::triangle(a.clone(), b.clone(), c.clone())?;
+        let t = SphericalTriangle::from_points(*a, *b, *c, *origin)?;
+        weights.push(t.solid_angle());
+        let support = PlanarPolygon::triangle(*a, *b, *c)?;
         parts.push(SolidAngleSampling::new(t, &support, origin));
     }
     Mixture::new(parts, &weights)
@@ -360,7 +359,7 @@ pub fn spherical_rectangle(
     if v[2].sub(&v[1]).sub(&ey).norm() > super::polygon::SHAPE_TOLERANCE * size {
         return Err(not_rectangle);
     }
-    let w = SphericalRectangle::new(v[0].clone(), ex, ey, origin.clone())?;
+    let w = SphericalRectangle::new(v[0], ex, ey, *origin)?;
     Ok(SolidAngleSampling::new(w, polygon, origin))
 }
 

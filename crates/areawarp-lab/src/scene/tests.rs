@@ -80,7 +80,7 @@ fn scene_polygon_validation_and_triangulation() {
     assert_eq!(l.triangle_indices().len(), 4);
     let tri_area: f64 = l
         .triangles()
-        .map(|[a, b, c]| polygon_area(&[a.clone(), b.clone(), c.clone()]))
+        .map(|[a, b, c]| polygon_area(&[*a, *b, *c]))
         .sum();
     assert!((tri_area - 3.0).abs() < 1e-14);
     // A vertex on a straight run is allowed (and triangulated around).
@@ -95,7 +95,7 @@ fn scene_polygon_validation_and_triangulation() {
     assert!((p.area() - 2.0).abs() < 1e-15);
     let a: f64 = p
         .triangles()
-        .map(|[a, b, c]| polygon_area(&[a.clone(), b.clone(), c.clone()]))
+        .map(|[a, b, c]| polygon_area(&[*a, *b, *c]))
         .sum();
     assert!((a - 2.0).abs() < 1e-15);
     // Errors.
@@ -545,14 +545,14 @@ fn scene_reflectance_and_reflected_radiance() {
     for rx in &setup.receivers {
         let ql = Quantity::Radiance {
             reflectance: lamb,
-            outgoing: wo.clone(),
+            outgoing: wo,
         };
         let exact = scene.exact(rx, &ql).unwrap();
         let e_exact = scene.exact(rx, &Quantity::Irradiance).unwrap();
         assert!((exact - 0.8 / PI * e_exact).abs() < 1e-15);
         let qp = Quantity::Radiance {
             reflectance: phong,
-            outgoing: wo.clone(),
+            outgoing: wo,
         };
         assert!(scene.exact(rx, &qp).is_none());
         let r = scene.reference(rx, &qp, 1 << 14, 1).unwrap();

@@ -162,7 +162,7 @@ impl StudyCase {
         Ok(StudyCase {
             name: name.to_string(),
             integrand: StudyIntegrand::Scene,
-            points: [v[0].clone(), v[1].clone(), v[2].clone()],
+            points: [v[0], v[1], v[2]],
             receiver,
             scene: scene.clone(),
         })
@@ -805,7 +805,7 @@ pub fn standard_cases() -> Result<Vec<StudyCase>, WarpError> {
             StudyIntegrand::Smooth,
             StudyIntegrand::PatternOccluded,
         ] {
-            cases.push(StudyCase::new(name, pts.clone(), o.clone(), f)?);
+            cases.push(StudyCase::new(name, pts, o.clone(), f)?);
         }
     }
     let setup = crate::scene::setup::patterned_triangle(6, 1.0, 0.1, 1)?;

@@ -266,7 +266,7 @@ pub(crate) fn catalogue(
             [v(0.0, 0.0, 0.0), v(1.0, 0.0, 0.0), v(0.5, 1e-6, 0.0)],
         ),
     ] {
-        let w = PlanarTriangle::new(a.clone(), b.clone(), c.clone())?;
+        let w = PlanarTriangle::new(a, b, c)?;
         push(
             ShapeEntry {
                 warp: "planar-triangle",
@@ -339,7 +339,7 @@ pub(crate) fn catalogue(
         .map(|t| (t, false))
         .chain(hard_triangles().into_iter().map(|t| (t, true)));
     for ((name, [a, b, c]), hard) in triangles {
-        let robust = SphericalTriangle::new(a.clone(), b.clone(), c.clone())?;
+        let robust = SphericalTriangle::new(a, b, c)?;
         let literal = robust
             .clone()
             .with_variant(SphericalTriangleVariant::Literal);
@@ -366,7 +366,7 @@ pub(crate) fn catalogue(
         .map(|r| (r, false))
         .chain(hard_rectangles().into_iter().map(|r| (r, true)));
     for ((name, [s, ex, ey, o]), hard) in rectangles {
-        let robust = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone())?;
+        let robust = SphericalRectangle::new(s, ex, ey, o)?;
         let literal = robust
             .clone()
             .with_variant(SphericalRectangleVariant::Literal);

@@ -305,7 +305,7 @@ fn v3(x: f64, y: f64, z: f64) -> Vec3<f64> {
 }
 
 fn unit(v: &Vec3<f64>) -> Vec3<f64> {
-    v.normalized().unwrap_or_else(|| v.clone())
+    v.normalized().unwrap_or(*v)
 }
 
 fn det(a: &Vec3<f64>, b: &Vec3<f64>, c: &Vec3<f64>) -> f64 {
@@ -475,9 +475,9 @@ fn subdivide(t: [Vec3<f64>; 3], levels: u32) -> Vec<[Vec3<f64>; 3]> {
             let ab = unit(&a.add(&b));
             let bc = unit(&b.add(&c));
             let ca = unit(&c.add(&a));
-            next.push([a, ab.clone(), ca.clone()]);
-            next.push([ab.clone(), b, bc.clone()]);
-            next.push([ca.clone(), bc.clone(), c]);
+            next.push([a, ab, ca]);
+            next.push([ab, b, bc]);
+            next.push([ca, bc, c]);
             next.push([ab, bc, ca]);
         }
         cells = next;
@@ -504,9 +504,9 @@ fn triangle_cell(cells: &[[Vec3<f64>; 3]], d: &Vec3<f64>) -> usize {
 
 fn run_triangle(c: &SampleFiguresConfig) -> Result<TriangleSamples, WarpError> {
     let [a, b, cc] = triangle_vertices();
-    let tri = SphericalTriangle::<f64>::new(a.clone(), b.clone(), cc.clone())?;
+    let tri = SphericalTriangle::<f64>::new(a, b, cc)?;
     let sets = SampleSets::draw(&tri, c.strata, c.measure_strata, c.seed ^ 0x7100);
-    let cells = subdivide([a.clone(), b.clone(), cc.clone()], c.triangle_levels);
+    let cells = subdivide([a, b, cc], c.triangle_levels);
     let omegas: Vec<f64> = cells
         .iter()
         .map(|[p, q, r]| triangle_solid_angle(p, q, r).abs())
@@ -526,7 +526,7 @@ fn run_triangle(c: &SampleFiguresConfig) -> Result<TriangleSamples, WarpError> {
     Ok(TriangleSamples {
         centre: unit(&a.add(&b).add(&cc)),
         vertices: [a, b, cc],
-        solid_angle: *tri.solid_angle(),
+        solid_angle: tri.solid_angle(),
         random_chi2: chi_square(&random_counts, &fractions),
         jittered_chi2: chi_square(&jittered_counts, &fractions),
         cell_solid_angles: omegas,
@@ -754,8 +754,8 @@ fn strip_solid_angle(g: &[Vec3<f64>; 4], a: f64, b: f64) -> f64 {
 
 fn run_rectangle(c: &SampleFiguresConfig) -> Result<RectangleSamples, WarpError> {
     let g = rectangle_geometry();
-    let [s, ex, ey, o] = g.clone();
-    let rect = SphericalRectangle::<f64>::new(s.clone(), ex.clone(), ey.clone(), o.clone())?;
+    let [s, ex, ey, o] = g;
+    let rect = SphericalRectangle::<f64>::new(s, ex, ey, o)?;
     let n = c.hammersley_points;
     let k = 1usize << (n.trailing_zeros() / 2);
     let half = 0.5 / n as f64;
@@ -794,7 +794,7 @@ fn run_rectangle(c: &SampleFiguresConfig) -> Result<RectangleSamples, WarpError>
     let cells = |pts: &[Vec3<f64>]| -> Vec<usize> {
         let mut counts = vec![0usize; k * k];
         for p in pts {
-            if let Some((u, v)) = rect.inverse(&unit(&p.sub(&o))) {
+            if let Ok([u, v]) = rect.inverse(&unit(&p.sub(&o))) {
                 let i = ((u * k as f64) as usize).min(k - 1);
                 let j = ((v * k as f64) as usize).min(k - 1);
                 counts[j * k + i] += 1;
@@ -1108,7 +1108,7 @@ impl SampleFigures {
             .sub(&r.observer);
         let proj = EqualArea::about(&centre, &r.edge_x);
         let corners = [
-            r.corner.clone(),
+            r.corner,
             r.corner.add(&r.edge_x),
             r.corner.add(&r.edge_x).add(&r.edge_y),
             r.corner.add(&r.edge_y),

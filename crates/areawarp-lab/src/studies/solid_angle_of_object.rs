@@ -661,8 +661,8 @@ impl Geometry {
         let mut uv = Vec::with_capacity(self.dirs.len());
         for d in &self.dirs {
             match sphere.inverse(d) {
-                Some(p) => uv.push(p),
-                None => return AngularBox::full(),
+                Ok([u, v]) => uv.push((u, v)),
+                Err(_) => return AngularBox::full(),
             }
         }
         let mut full_phi = false;
@@ -682,7 +682,7 @@ impl Geometry {
             let det = a.dot(&b.cross(c));
             if det != 0.0 {
                 let s = det.signum();
-                for (pole, is_north) in [(k.clone(), true), (k.neg(), false)] {
+                for (pole, is_north) in [(k, true), (k.neg(), false)] {
                     let inside = [(a, b), (b, c), (c, a)]
                         .iter()
                         .all(|(p, q)| p.cross(q).dot(&pole) * s >= -1e-12);
@@ -713,7 +713,7 @@ impl Geometry {
                 let mm = m.norm();
                 if mm > 0.0 {
                     let m = m.scale(&(1.0 / mm));
-                    for (dir, sign) in [(m.clone(), 1.0), (m.neg(), -1.0)] {
+                    for (dir, sign) in [(m, 1.0), (m.neg(), -1.0)] {
                         let on_arc = p.cross(&dir).dot(&n) >= 0.0 && dir.cross(q).dot(&n) >= 0.0;
                         if on_arc {
                             zmax = zmax.max(sign * mm);
@@ -1510,7 +1510,7 @@ fn axis_spread(
                 };
                 let p = Vec3::new(exact.x.to_f64(), exact.y.to_f64(), exact.z.to_f64());
                 let p = p.normalized().unwrap_or(Vec3::new(0.0, 0.0, 1.0));
-                let (uw, vw) = world.inverse(&p).unwrap_or((0.0, 0.0));
+                let [uw, vw] = world.inverse(&p).unwrap_or([0.0, 0.0]);
                 let ci = ((uw * cols as f64) as usize).min(cols - 1);
                 let cj = ((vw * rows as f64) as usize).min(rows - 1);
                 let sq = e2e * e2e;
@@ -2415,14 +2415,8 @@ mod tests {
         let hit = |d: Vec3<f64>| ray_hits_triangle(&o, &d, &a, &b, &c);
         assert_eq!(hit(v(0.5, 0.5, 2.0)), Some(1.0));
         // Vertices and edges (exactly representable barycentrics): inclusive.
-        for d in [
-            a.clone(),
-            b.clone(),
-            c.clone(),
-            v(1.0, 0.0, 2.0),
-            v(0.0, 1.0, 2.0),
-        ] {
-            assert!(hit(d.clone()).is_some(), "{d:?}");
+        for d in [a, b, c, v(1.0, 0.0, 2.0), v(0.0, 1.0, 2.0)] {
+            assert!(hit(d).is_some(), "{d:?}");
         }
         assert!(hit(v(1.0, 1.0, 2.0)).is_some(), "hypotenuse");
         assert!(hit(v(1.0, 1.0 + 1e-12, 2.0)).is_some(), "within the slack");
@@ -2489,7 +2483,7 @@ mod tests {
         let mut front = 0.0;
         let mut all = 0.0;
         for f in sc.mesh.faces() {
-            let (a, b, c) = (vs[f[0]].clone(), vs[f[1]].clone(), vs[f[2]].clone());
+            let (a, b, c) = (vs[f[0]], vs[f[1]], vs[f[2]]);
             let n = b.sub(&a).cross(&c.sub(&a));
             let om = triangle_solid_angle(&a, &b, &c);
             all += om;
@@ -2595,7 +2589,7 @@ mod tests {
                 spheres.push(Sphere::with_random_axis(&mut rng));
             }
             // Axes pointing at a vertex and through the object.
-            spheres.push(Sphere::with_axis(g.dirs[0].clone()).unwrap());
+            spheres.push(Sphere::with_axis(g.dirs[0]).unwrap());
             spheres.push(Sphere::with_axis(g.dirs[0].neg()).unwrap());
             for sphere in &spheres {
                 let bx = g.angular_box(sphere, pad_for::<f64>());
@@ -2612,7 +2606,7 @@ mod tests {
                         .add(&vs[f[1]].sub(&vs[f[0]]).scale(&a))
                         .add(&vs[f[2]].sub(&vs[f[0]]).scale(&b));
                     let d = p.sub(&sc.viewpoint).normalized().unwrap();
-                    let (u, vv) = sphere.inverse(&d).unwrap();
+                    let [u, vv] = sphere.inverse(&d).unwrap();
                     assert!(bx.contains(u, vv), "{}: {u} {vv} {bx:?}", sc.name);
                 }
             }

@@ -842,7 +842,7 @@ pub fn measure(spec: &MeasureSpec<'_>, fit_levels: usize) -> Result<Measurement,
         .map(|(r, &e)| {
             let d = distance_to_polygon(polygon, r.position());
             ReceiverInfo {
-                position: r.position().clone(),
+                position: *r.position(),
                 reference: e,
                 light_distance: d,
                 near: d <= spec.near_light,
@@ -953,7 +953,7 @@ pub fn measure(spec: &MeasureSpec<'_>, fit_levels: usize) -> Result<Measurement,
                 m.failures.push(Failure {
                     method: m.methods[mi].clone(),
                     receiver: r,
-                    position: m.receivers[r].position.clone(),
+                    position: m.receivers[r].position,
                     failed: *count,
                     attempted: nk * np * nl,
                     error: err.clone().unwrap_or_else(|| "unknown".to_string()),
@@ -3161,7 +3161,7 @@ mod tests {
             (0.6, 0.4),
             (-0.1, 3.0),
         ] {
-            let rx = Receiver::new(Vec3::new(x, y, 0.0), up.clone()).unwrap();
+            let rx = Receiver::new(Vec3::new(x, y, 0.0), up).unwrap();
             let exact = occluded_irradiance(&scene, &rx).unwrap();
             let free = lambert::irradiance(scene.emitter(), &rx);
             assert!(exact <= free * (1.0 + 1e-12));

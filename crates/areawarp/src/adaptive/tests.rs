@@ -38,10 +38,8 @@ fn random_triangle(rng: &mut Xoshiro256PlusPlus, zmin: f64, size: f64) -> [Vec3<
                 _ => break,
             }
         }
-        if out.len() == 3
-            && SphericalTriangle::new(out[0].clone(), out[1].clone(), out[2].clone()).is_ok()
-        {
-            return [out[0].clone(), out[1].clone(), out[2].clone()];
+        if out.len() == 3 && SphericalTriangle::new(out[0], out[1], out[2]).is_ok() {
+            return [out[0], out[1], out[2]];
         }
     }
 }
@@ -60,7 +58,7 @@ fn brute_force_max_z(t: &[Vec3<f64>; 3]) -> f64 {
             }
         }
     }
-    let tri = SphericalTriangle::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+    let tri = SphericalTriangle::new(t[0], t[1], t[2]).unwrap();
     for i in 0..=60 {
         for j in 0..=60 {
             m = m.max(tri.map(&(i as f64 / 60.0), &(j as f64 / 60.0)).z);
@@ -81,7 +79,7 @@ fn adaptive_max_cosine_matches_brute_force() {
     let arc = arc_max_cosine(&a, &b);
     // The arc peaks at (1, 0, 1)/√2 (symmetry).
     assert!((arc - 0.5f64.sqrt()).abs() < 1e-15, "{arc}");
-    let tri = [a.clone(), b.clone(), v(1.0, 0.0, 0.2)];
+    let tri = [a, b, v(1.0, 0.0, 0.2)];
     assert!((max_cosine(&tri[0], &tri[1], &tri[2]) - 0.5f64.sqrt()).abs() < 1e-15);
     // A vertex maximum.
     let vert = [v(1.0, 0.0, 0.1), v(0.0, 1.0, 0.1), v(1.0, 1.0, 1.0)];
@@ -122,7 +120,7 @@ fn adaptive_measures_against_references() {
     for i in 0..200 {
         let size = [0.01, 0.1, 0.5][i % 3];
         let t = random_triangle(&mut rng, 0.0, size);
-        let m = TriangleMeasures::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+        let m = TriangleMeasures::new(t[0], t[1], t[2]).unwrap();
         // σ against the Gauss–Bonnet fan of `polygon_measures` (which
         // loses a few digits on slivers) and, with MPFR, against 256 bits.
         let sigma = polygon_measures::solid_angle(&t);
@@ -151,7 +149,7 @@ fn adaptive_measures_against_references() {
         }
         // The subdivision's own evaluation: σ as SphericalTriangle's, σ⊥
         // as polygon_measures' Lambert.
-        let tri = SphericalTriangle::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+        let tri = SphericalTriangle::new(t[0], t[1], t[2]).unwrap();
         let (a, b, c) = (tri.a(), tri.b(), tri.c());
         let (omega, ok) = robust_solid_angle(a, b, c);
         assert!(ok);
@@ -182,7 +180,7 @@ fn adaptive_measures_against_references() {
     {
         use crate::real::Mpfr256;
         let t = [v(0.5, 0.1, 0.8), v(0.2, 0.6, 0.7), v(0.1, 0.1, 1.0)];
-        let m = TriangleMeasures::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+        let m = TriangleMeasures::new(t[0], t[1], t[2]).unwrap();
         let h = TriangleMeasures::<Mpfr256>::new(t[0].convert(), t[1].convert(), t[2].convert())
             .unwrap();
         assert!((h.k.to_f64() - m.k).abs() < 1e-13);
@@ -209,7 +207,7 @@ fn adaptive_partition_covers_the_triangle() {
             (&[0.3], 8)
         };
         for &k in ks {
-            let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), k)
+            let a = AdaptiveTriangle::new(t[0], t[1], t[2], k)
                 .unwrap()
                 .with_max_depth(depth)
                 .unwrap();
@@ -351,9 +349,9 @@ fn adaptive_distribute_samples_follows_section_4_1() {
 #[test]
 fn adaptive_counts_per_piece_follow_section_4_1() {
     let t = [v(1.0, -0.3, 0.5), v(1.0, 0.35, 0.6), v(0.7, 0.0, 1.0)];
-    let root = TriangleMeasures::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+    let root = TriangleMeasures::new(t[0], t[1], t[2]).unwrap();
     let k = root.k * 0.999;
-    let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), k).unwrap();
+    let a = AdaptiveTriangle::new(t[0], t[1], t[2], k).unwrap();
     let pieces = a.pieces(16).unwrap();
     assert_eq!(pieces.len(), 4, "one split");
     assert!(pieces.iter().all(|p| p.depth == 1 && !p.capped));
@@ -419,10 +417,10 @@ fn adaptive_weights_and_densities() {
     tris.push([v(1.0, -0.6, -0.3), v(0.8, 0.7, 0.2), v(0.3, 0.0, 0.9)]);
     for (ti, t) in tris.iter().enumerate() {
         for k in [0.3, 0.1, 0.01, 0.001] {
-            let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), k).unwrap();
+            let a = AdaptiveTriangle::new(t[0], t[1], t[2], k).unwrap();
             let sp = a.projected_solid_angle();
             let set = a.generate(64, &mut rng);
-            let whole = SphericalTriangle::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+            let whole = SphericalTriangle::new(t[0], t[1], t[2]).unwrap();
             for i in 0..set.len() {
                 let d = &set.directions[i];
                 assert!((d.norm() - 1.0).abs() < 1e-14);
@@ -450,8 +448,8 @@ fn adaptive_weights_and_densities() {
     }
     // The density integrates to 1: E_uniform[pdf]·σ over the whole triangle.
     let t = [v(1.0, -0.5, 0.3), v(1.0, 0.6, 0.4), v(0.2, 0.0, 1.0)];
-    let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), 0.05).unwrap();
-    let whole = SphericalTriangle::new(t[0].clone(), t[1].clone(), t[2].clone()).unwrap();
+    let a = AdaptiveTriangle::new(t[0], t[1], t[2], 0.05).unwrap();
+    let whole = SphericalTriangle::new(t[0], t[1], t[2]).unwrap();
     let mut s = Stats::new();
     for (u, w) in crate::sampling::jittered::<f64, _>(100, 100, &mut rng) {
         s.push(a.pdf(&whole.map(&u, &w)) * whole.solid_angle());
@@ -467,17 +465,17 @@ fn adaptive_rejects_bad_input() {
     let (a, b, c) = (v(1.0, 0.0, 0.5), v(0.0, 1.0, 0.5), up());
     for k in [0.0, -1.0, f64::NAN] {
         assert!(matches!(
-            AdaptiveTriangle::new(a.clone(), b.clone(), c.clone(), k),
+            AdaptiveTriangle::new(a, b, c, k),
             Err(WarpError::InvalidParameter { .. })
         ));
     }
-    assert!(AdaptiveTriangle::new(a.clone(), b.clone(), c.clone(), f64::INFINITY).is_ok());
+    assert!(AdaptiveTriangle::new(a, b, c, f64::INFINITY).is_ok());
     assert!(matches!(
-        AdaptiveTriangle::new(v(f64::NAN, 0.0, 1.0), b.clone(), c.clone(), 0.1),
+        AdaptiveTriangle::new(v(f64::NAN, 0.0, 1.0), b, c, 0.1),
         Err(WarpError::NonFinite { .. })
     ));
     assert!(matches!(
-        AdaptiveTriangle::new(a.clone(), a.clone(), c.clone(), 0.1),
+        AdaptiveTriangle::new(a, a, c, 0.1),
         Err(WarpError::Degenerate { .. })
     ));
     // Entirely below the horizon, or touching it only along an edge.
@@ -506,7 +504,7 @@ fn adaptive_rejects_bad_input() {
 #[test]
 fn adaptive_clipped_triangle() {
     let t = [v(1.0, -0.6, -0.3), v(0.8, 0.7, 0.2), v(0.3, 0.0, 0.9)];
-    let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), 0.01).unwrap();
+    let a = AdaptiveTriangle::new(t[0], t[1], t[2], 0.01).unwrap();
     assert_eq!(a.roots().len(), 2);
     for (r, _) in a.roots() {
         assert!(r.iter().all(|p| p.z >= 0.0));
@@ -531,7 +529,7 @@ fn adaptive_clipped_triangle() {
 #[test]
 fn adaptive_is_deterministic() {
     let t = [v(1.0, -0.5, 0.3), v(1.0, 0.6, 0.4), v(0.2, 0.0, 1.0)];
-    let a = AdaptiveTriangle::new(t[0].clone(), t[1].clone(), t[2].clone(), 0.01).unwrap();
+    let a = AdaptiveTriangle::new(t[0], t[1], t[2], 0.01).unwrap();
     let s1 = a.generate(50, &mut job_rng(3, 0));
     let s2 = a
         .clone()

@@ -56,14 +56,10 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::warp::Warp;
 
-/// A point drawn by a [`Strategy`] and the density it was drawn with.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Sample<P> {
-    /// The point of the integration domain.
-    pub point: P,
-    /// Its density, in the measure of the integral (finite and `> 0`).
-    pub pdf: f64,
-}
+/// A point drawn by a [`Strategy`] and the density it was drawn with (in
+/// the measure of the integral; finite and `> 0`): the warps' own
+/// [`Sample`](crate::warp::Sample) with an `f64` density.
+pub type Sample<P> = crate::warp::Sample<f64, P>;
 
 /// A sampling strategy: a map from the unit square to the integration
 /// domain with a known density.

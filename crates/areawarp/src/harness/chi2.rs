@@ -910,7 +910,7 @@ mod tests {
             Vec3::new(-1.0, 2.0, 0.5),
         );
         let tri = run_chi_square(
-            &TestTriangle::new(a.clone(), b.clone(), c.clone()),
+            &TestTriangle::new(a, b, c),
             &TriangleBins::new(c, a, b, 14).unwrap(),
             100_000,
             5,

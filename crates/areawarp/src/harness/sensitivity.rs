@@ -412,6 +412,7 @@ fn finite<R: Real>(p: Vec3<R>, what: &'static str) -> Result<Vec3<R>, WarpError>
 mod tests {
     use super::*;
     use crate::harness::test_warps::{Parallelogram, TestDisk};
+    use crate::warp::InverseError;
 
     fn parallelogram<R: Real>(p: &[R]) -> Result<Parallelogram<R>, WarpError> {
         let v = |i: usize| Vec3::new(p[i].clone(), p[i + 1].clone(), p[i + 2].clone());
@@ -526,14 +527,14 @@ mod tests {
             fn map(&self, u: &f64, _v: &f64) -> Self::Point {
                 crate::vector::Vec2::new((u - 0.5).sqrt(), 0.0)
             }
-            fn pdf(&self, _p: &Self::Point) -> f64 {
+            fn pdf_unchecked(&self, _p: &Self::Point) -> f64 {
                 1.0
             }
             fn measure(&self) -> f64 {
                 1.0
             }
-            fn inverse(&self, _p: &Self::Point) -> Option<(f64, f64)> {
-                None
+            fn inverse(&self, _p: &Self::Point) -> Result<[f64; 2], InverseError> {
+                Err(InverseError::NonFinite)
             }
             fn outside_by(&self, _p: &Self::Point) -> f64 {
                 0.0
@@ -562,14 +563,14 @@ mod tests {
             };
             crate::vector::Vec2::new(u.clone() + &big - &big, v.clone())
         }
-        fn pdf(&self, _p: &Self::Point) -> T {
+        fn pdf_unchecked(&self, _p: &Self::Point) -> T {
             T::one()
         }
         fn measure(&self) -> T {
             T::one()
         }
-        fn inverse(&self, p: &Self::Point) -> Option<(T, T)> {
-            Some((p.x.clone(), p.y.clone()))
+        fn inverse(&self, p: &Self::Point) -> Result<[T; 2], InverseError> {
+            Ok([p.x.clone(), p.y.clone()])
         }
         fn outside_by(&self, p: &Self::Point) -> T {
             let zero = T::zero();

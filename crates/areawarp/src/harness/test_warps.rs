@@ -4,6 +4,7 @@
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::{Vec2, Vec3};
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 fn two_pi<T: Real>() -> T {
@@ -51,15 +52,18 @@ impl<T: Real> Warp<T> for Parallelogram<T> {
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         self.o.add(&self.e1.scale(u)).add(&self.e2.scale(v))
     }
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         T::one() / &self.area
     }
     fn measure(&self) -> T {
         self.area.clone()
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        p.is_finite()
-            .then(|| coordinates(&p.sub(&self.o), &self.e1, &self.e2))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        if !p.is_finite() {
+            return Err(InverseError::NonFinite);
+        }
+        let (s, t) = coordinates(&p.sub(&self.o), &self.e1, &self.e2);
+        Ok([s, t])
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         let (s, t) = coordinates(&p.sub(&self.o), &self.e1, &self.e2);
@@ -112,19 +116,19 @@ impl<T: Real> Warp<T> for TestDisk<T> {
         let (s, c) = (two_pi::<T>() * v).sin_cos();
         Vec2::new(r.clone() * &c, r * &s)
     }
-    fn pdf(&self, _p: &Vec2<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         T::one() / &T::pi()
     }
     fn measure(&self) -> T {
         T::pi()
     }
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
         let r = p.norm();
         if !r.is_finite() {
-            return None;
+            return Err(InverseError::NonFinite);
         }
         let u = if self.wrong { r } else { r.square() };
-        Some((u, turn(&p.y, &p.x)))
+        Ok([u, turn(&p.y, &p.x)])
     }
     fn outside_by(&self, p: &Vec2<T>) -> T {
         (p.norm() - &T::one()).max(&T::zero())
@@ -175,19 +179,19 @@ impl<T: Real> Warp<T> for TestSphere<T> {
         let (sp, cp) = (two_pi::<T>() * v).sin_cos();
         Vec3::new(s.clone() * &cp, s * &sp, z)
     }
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         T::one() / &(T::pi() * &T::from_i64(4))
     }
     fn measure(&self) -> T {
         T::pi() * &T::from_i64(4)
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
         if !p.is_finite() {
-            return None;
+            return Err(InverseError::NonFinite);
         }
         let a = (T::one() - &p.z) / &T::from_i64(2);
         let u = if self.wrong { a.sqrt() } else { a };
-        Some((u, turn(&p.y, &p.x)))
+        Ok([u, turn(&p.y, &p.x)])
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         (p.norm() - &T::one()).abs()
@@ -224,19 +228,19 @@ impl<T: Real> Warp<T> for TestLobe<T> {
         let (sp, cp) = (two_pi::<T>() * v).sin_cos();
         Vec3::new(s.clone() * &cp, s * &sp, z)
     }
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         let kp1 = self.k.clone() + &T::one();
         p.z.max(&T::zero()).powf(&self.k) * &kp1 / &two_pi::<T>()
     }
     fn measure(&self) -> T {
         two_pi::<T>() / &(self.k.clone() + &T::one())
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
         if !p.is_finite() {
-            return None;
+            return Err(InverseError::NonFinite);
         }
         let u = p.z.max(&T::zero()).powf(&(self.k.clone() + &T::one()));
-        Some((u, turn(&p.y, &p.x)))
+        Ok([u, turn(&p.y, &p.x)])
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         (p.norm() - &T::one()).abs() + &(-p.z.clone()).max(&T::zero())
@@ -278,13 +282,13 @@ impl<T: Real> Warp<T> for TestTriangle<T> {
             .add(&self.b.scale(&(su.clone() * &(T::one() - v))))
             .add(&self.c.scale(&(su * v)))
     }
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         T::one() / &self.area
     }
     fn measure(&self) -> T {
         self.area.clone()
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
         let (beta, gamma) =
             coordinates(&p.sub(&self.a), &self.b.sub(&self.a), &self.c.sub(&self.a));
         let su = beta + &gamma;
@@ -293,7 +297,7 @@ impl<T: Real> Warp<T> for TestTriangle<T> {
         } else {
             T::zero()
         };
-        Some((su.square(), v))
+        Ok([su.square(), v])
     }
     fn outside_by(&self, _p: &Vec3<T>) -> T {
         T::zero()

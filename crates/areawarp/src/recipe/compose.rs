@@ -4,6 +4,7 @@ use super::{AreaDensity, Conditional, Inverter, Marginal, MarginalConditional};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// Steps 1–3 of a warp, rebuildable at any precision.
@@ -90,18 +91,21 @@ impl<T: Real, R: Recipe<T>, IM: Inverter, IC: Inverter> Warp<T> for RecipeWarp<R
         let (s, t) = self.warp_coordinates(u, v);
         self.recipe.phi(&s, &t)
     }
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         self.recipe.weight(p) / &self.recipe.measure()
     }
     fn measure(&self) -> T {
         self.recipe.measure()
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        let (s, t) = self.recipe.chart(p)?;
-        Some((
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        let (s, t) = self
+            .recipe
+            .chart(p)
+            .ok_or_else(|| InverseError::refuse(self, p))?;
+        Ok([
             self.recipe.marginal_cdf(&s),
             self.recipe.conditional_cdf(&s, &t),
-        ))
+        ])
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         self.recipe.outside_by(p)

@@ -5,6 +5,7 @@ use super::turns::clamp01;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec2;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// The concentric map of Shirley and Chiu (1997): concentric squares of
@@ -45,7 +46,7 @@ use crate::warp::{Warp, WarpFamily};
 /// assert_eq!((p.x, p.y), (1.0, 0.0));
 /// let q = disk.map(&0.75, &0.75); // a corner of the concentric square of radius 1/2
 /// assert!((q.x - 0.5 * 0.5f64.sqrt()).abs() < 1e-16 && (q.y - q.x).abs() < 1e-16);
-/// let (u, v) = disk.inverse(&q).unwrap();
+/// let [u, v] = disk.inverse(&q).unwrap();
 /// assert!((u - 0.75).abs() < 1e-15 && (v - 0.75).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -103,7 +104,7 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     }
 
     /// `1/π`, whatever `p` (not checked).
-    fn pdf(&self, _p: &Vec2<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }
 
@@ -117,14 +118,12 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     /// `a = b·(4/π)·atan(x/y)`; then `(u, v) = ((a + 1)/2, (b + 1)/2)`,
     /// clamped to `[0, 1]`. The center gives `(1/2, 1/2)`. `None` if `p` is not
     /// finite or `|p| > 1 + 64u`.
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-        if !(p.x.is_finite() && p.y.is_finite()) || self.outside_by(p) > self.inverse_tolerance {
-            return None;
-        }
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.inverse_tolerance)?;
         let half = T::from_ratio(1, 2);
         let r = p.x.hypot(&p.y).min(&T::one());
         if r == T::zero() {
-            return Some((half.clone(), half));
+            return Ok([half.clone(), half]);
         }
         let (a, b) = if p.x.abs() >= p.y.abs() {
             let a = r.copysign(&p.x);
@@ -137,7 +136,7 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
         };
         let u = ((a + &T::one()) * &half).clamp(&T::zero(), &T::one());
         let v = ((b + &T::one()) * &half).clamp(&T::zero(), &T::one());
-        Some((u, v))
+        Ok([u, v])
     }
 
     /// `max(0, |p| − 1)`; non-finite `p`: [`Real::max_value`].
@@ -148,6 +147,8 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
         (p.x.hypot(&p.y) - &T::one()).max(&T::zero())
     }
 }
+
+crate::warp::distribution_for_floats!(ConcentricDisk, Vec2);
 
 impl<T: Real> WarpFamily<T> for ConcentricDisk<T> {
     type At<S: Real> = ConcentricDisk<S>;
@@ -225,15 +226,15 @@ mod tests {
         for u in grid() {
             for v in grid() {
                 let p = d.map(&u, &v);
-                let (u2, v2) = d.inverse(&p).expect("on the disk");
+                let [u2, v2] = d.inverse(&p).expect("on the disk");
                 assert!((u - u2).abs() <= 1e-12, "({u},{v}) -> ({u2},{v2})");
                 assert!((v - v2).abs() <= 1e-12, "({u},{v}) -> ({u2},{v2})");
             }
         }
-        assert_eq!(d.inverse(&Vec2::new(0.0, 0.0)), Some((0.5, 0.5)));
-        assert_eq!(d.inverse(&Vec2::new(-0.0, -0.0)), Some((0.5, 0.5)));
-        assert!(d.inverse(&Vec2::new(1.0, 0.01)).is_none());
-        assert!(d.inverse(&Vec2::new(f64::NAN, 0.0)).is_none());
+        assert_eq!(d.inverse(&Vec2::new(0.0, 0.0)), Ok([0.5, 0.5]));
+        assert_eq!(d.inverse(&Vec2::new(-0.0, -0.0)), Ok([0.5, 0.5]));
+        assert!(d.inverse(&Vec2::new(1.0, 0.01)).is_err());
+        assert!(d.inverse(&Vec2::new(f64::NAN, 0.0)).is_err());
     }
 
     #[test]

@@ -6,6 +6,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::{Vec2, Vec3};
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// The polar area-preserving map of the unit disk (Arvo 2001, eq. 1.23):
@@ -35,7 +36,7 @@ use crate::warp::{Warp, WarpFamily};
 /// let disk = PolarDisk::<f64>::new();
 /// let p = disk.map(&0.25, &0.25); // r = 1/2, a quarter turn
 /// assert!(p.x.abs() < 1e-16 && (p.y - 0.5).abs() < 1e-16);
-/// let (u, v) = disk.inverse(&p).unwrap();
+/// let [u, v] = disk.inverse(&p).unwrap();
 /// assert!((u - 0.25).abs() < 1e-15 && (v - 0.25).abs() < 1e-15);
 /// assert!((disk.pdf(&p) - 1.0 / std::f64::consts::PI).abs() < 1e-16);
 /// ```
@@ -88,7 +89,7 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
     }
 
     /// `1/π`, whatever `p` (not checked).
-    fn pdf(&self, _p: &Vec2<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }
 
@@ -99,12 +100,10 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
 
     /// `(u, v) = (min(x² + y², 1), atan2(y, x)/(2π) in [0, 1))`; the center
     /// maps to `(0, 0)`. `None` if `p` is not finite or `|p| > 1 + 64u`.
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-        if !(p.x.is_finite() && p.y.is_finite()) || self.outside_by(p) > self.inverse_tolerance {
-            return None;
-        }
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.inverse_tolerance)?;
         let u = (p.x.square() + &p.y.square()).min(&T::one());
-        Some((u, turns_of(&p.y, &p.x, &self.inv_two_pi)))
+        Ok([u, turns_of(&p.y, &p.x, &self.inv_two_pi)])
     }
 
     /// `max(0, |p| − 1)`; non-finite `p`: [`Real::max_value`].
@@ -115,6 +114,8 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
         (p.x.hypot(&p.y) - &T::one()).max(&T::zero())
     }
 }
+
+crate::warp::distribution_for_floats!(PolarDisk, Vec2);
 
 impl<T: Real> WarpFamily<T> for PolarDisk<T> {
     type At<S: Real> = PolarDisk<S>;
@@ -319,7 +320,7 @@ mod tests {
         for u in grid() {
             for v in grid() {
                 let p = d.map(&u, &v);
-                let (u2, v2) = d.inverse(&p).expect("on the disk");
+                let [u2, v2] = d.inverse(&p).expect("on the disk");
                 assert!((0.0..=1.0).contains(&u2) && (0.0..1.0).contains(&v2));
                 assert!((u - u2).abs() <= 1e-12, "u: ({u},{v}) -> ({u2},{v2})");
                 if u == 0.0 {
@@ -334,14 +335,14 @@ mod tests {
                 }
             }
         }
-        assert_eq!(d.inverse(&Vec2::new(0.0, 0.0)), Some((0.0, 0.0)));
+        assert_eq!(d.inverse(&Vec2::new(0.0, 0.0)), Ok([0.0, 0.0]));
         // Just below the +x axis: v rounds to the largest value below 1.
-        let (_, v) = d.inverse(&Vec2::new(1.0, -1e-300)).unwrap();
+        let [_, v] = d.inverse(&Vec2::new(1.0, -1e-300)).unwrap();
         assert_eq!(v, 1.0 - f64::EPSILON / 2.0);
-        let (_, v) = d.inverse(&Vec2::new(1.0, -0.0)).unwrap();
+        let [_, v] = d.inverse(&Vec2::new(1.0, -0.0)).unwrap();
         assert!(v == 0.0 && v.is_sign_positive());
-        assert!(d.inverse(&Vec2::new(0.8, 0.8)).is_none());
-        assert!(d.inverse(&Vec2::new(f64::INFINITY, 0.0)).is_none());
+        assert!(d.inverse(&Vec2::new(0.8, 0.8)).is_err());
+        assert!(d.inverse(&Vec2::new(f64::INFINITY, 0.0)).is_err());
     }
 
     #[test]
@@ -421,8 +422,8 @@ mod tests {
                 let dist = p.sub(&q).norm();
                 assert!(dist <= tol, "({u}, {v}): {dist}");
                 if *u > Mpfr256::zero() {
-                    let (u1, v1) = d.inverse(&d.map(u, v)).unwrap();
-                    let (u2, v2) = w.inverse(&q).unwrap();
+                    let [u1, v1] = d.inverse(&d.map(u, v)).unwrap();
+                    let [u2, v2] = w.inverse(&q).unwrap();
                     assert!((u1 - &u2).abs() <= tol.clone());
                     assert!((v1 - &v2).abs() <= tol.clone());
                 }

@@ -6,6 +6,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// Uniform directions on the unit upper hemisphere `{|p| = 1, z ≥ 0}`
@@ -36,7 +37,7 @@ use crate::warp::{Warp, WarpFamily};
 /// assert!((p.z - 0.75).abs() < 1e-15);
 /// assert!((p.x * p.x + p.y * p.y + p.z * p.z - 1.0).abs() < 1e-15);
 /// assert!((h.pdf(&p) * h.measure() - 1.0).abs() < 1e-15);
-/// let (u, v) = h.inverse(&p).unwrap();
+/// let [u, v] = h.inverse(&p).unwrap();
 /// assert!((u - 0.25).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -100,7 +101,7 @@ impl<T: Real> Warp<T> for Hemisphere<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if p.z < T::zero() {
             T::zero()
         } else {
@@ -112,10 +113,8 @@ impl<T: Real> Warp<T> for Hemisphere<T> {
         self.two_pi.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let n = p.norm();
         let (x, y, z) = (p.x.clone() / &n, p.y.clone() / &n, p.z.clone() / &n);
         let one = T::one();
@@ -126,13 +125,15 @@ impl<T: Real> Warp<T> for Hemisphere<T> {
         } else {
             one - &z
         };
-        Some((clamp_unit(&u), turns_of(&y, &x, &self.inv_two_pi)))
+        Ok([clamp_unit(&u), turns_of(&y, &x, &self.inv_two_pi)])
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
         upper_hemisphere_outside_by(p)
     }
 }
+
+crate::warp::distribution_for_floats!(Hemisphere, Vec3);
 
 impl<T: Real> WarpFamily<T> for Hemisphere<T> {
     type At<S: Real> = Hemisphere<S>;
@@ -343,7 +344,7 @@ mod tests {
                 if v == 1.0 {
                     continue; // same azimuth as v = 0
                 }
-                let (u2, v2) = h.inverse(&h.map(&u, &v)).unwrap();
+                let [u2, v2] = h.inverse(&h.map(&u, &v)).unwrap();
                 assert!((u2 - u).abs() <= 1e-12 * u, "{u} {v}: {u2}");
                 assert!((v2 - v).abs() <= 1e-12, "{u} {v}: {v2}");
             }
@@ -353,10 +354,10 @@ mod tests {
     #[test]
     fn hemisphere_inverse_rejects_off_shape() {
         let h = Hemisphere::<f64>::new();
-        assert!(h.inverse(&Vec3::new(0.0, 0.0, -1.0)).is_none());
-        assert!(h.inverse(&Vec3::new(0.0, 0.0, 2.0)).is_none());
-        assert!(h.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_none());
-        assert!(h.inverse(&Vec3::zero()).is_none());
+        assert!(h.inverse(&Vec3::new(0.0, 0.0, -1.0)).is_err());
+        assert!(h.inverse(&Vec3::new(0.0, 0.0, 2.0)).is_err());
+        assert!(h.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_err());
+        assert!(h.inverse(&Vec3::zero()).is_err());
         assert_eq!(h.pdf(&Vec3::new(0.0, 0.6, -0.8)), 0.0);
         assert!(h.outside_by(&Vec3::new(0.0, 0.6, -0.8)) >= 0.8);
     }
@@ -475,7 +476,7 @@ mod tests {
             prop_assert!(p.is_finite());
             prop_assert!(h.outside_by(&p) <= 4.0 * f64::EPSILON);
             prop_assert!((h.pdf(&p) * h.measure() - 1.0).abs() <= 4.0 * f64::EPSILON);
-            let (u2, v2) = h.inverse(&p).unwrap();
+            let [u2, v2] = h.inverse(&p).unwrap();
             prop_assert!((u2 - u).abs() <= 1e-12 * u);
             if u > 1e-6 {
                 // Azimuth is periodic: compare on the circle.

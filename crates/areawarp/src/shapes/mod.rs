@@ -18,8 +18,8 @@ pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe};
 pub use projected_polygon::{MarginalInversion, ProjectedPolygon};
 pub use sphere::{Sphere, SphereRecipe};
 pub use spherical_rectangle::{
-    RectangleSample, SphericalRectangle, SphericalRectangleRecipe, SphericalRectangleVariant,
-    hard_rectangles, ordinary_rectangles,
+    SphericalRectangle, SphericalRectangleRecipe, SphericalRectangleVariant, hard_rectangles,
+    ordinary_rectangles,
 };
 pub use spherical_triangle::{
     SphericalTriangle, SphericalTriangleRecipe, SphericalTriangleVariant, hard_triangles,

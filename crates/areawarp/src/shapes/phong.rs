@@ -8,6 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// Which formula evaluates `z = u^(1/(k+1))`: the exact special cases
@@ -216,7 +217,7 @@ impl<T: Real> Warp<T> for PhongLobe<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         cos_power(p, self.kind, &self.half_k) * &self.norm
     }
 
@@ -224,10 +225,8 @@ impl<T: Real> Warp<T> for PhongLobe<T> {
         self.measure.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let z = p.z.max(&T::zero());
         let rho2 = p.x.square() + &p.y.square();
         let n2 = rho2.clone() + &z.square();
@@ -247,13 +246,15 @@ impl<T: Real> Warp<T> for PhongLobe<T> {
             Kind::Cosine => z.square() / &n2,
             Kind::General => (self.half_k1.clone() * &ln_cos_squared(&rho2, &z)).exp(),
         };
-        Some((clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)))
+        Ok([clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)])
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
         upper_hemisphere_outside_by(p)
     }
 }
+
+crate::warp::distribution_for_floats!(PhongLobe, Vec3);
 
 impl<T: Real> WarpFamily<T> for PhongLobe<T> {
     type At<S: Real> = PhongLobe<S>;
@@ -552,7 +553,7 @@ mod tests {
             let w = PhongLobe::new(k).unwrap();
             for u in [2f64.powi(-60), 1e-12, 1e-6, 0.5, 1.0 - 1e-6] {
                 for v in [0.0, 1e-12, 0.3, 0.5, 1.0 - 1e-12] {
-                    let (u2, v2) = w.inverse(&w.map(&u, &v)).unwrap();
+                    let [u2, v2] = w.inverse(&w.map(&u, &v)).unwrap();
                     assert!((u2 - u).abs() <= 1e-12 * u, "k={k} u={u} v={v}: {u2}");
                     assert!((v2 - v).abs() <= 1e-12, "k={k} u={u} v={v}: {v2}");
                 }
@@ -568,7 +569,7 @@ mod tests {
         for k in EXPONENTS {
             let w = PhongLobe::new(k).unwrap();
             for u in [1.0 - 1e-6, 1.0 - 1e-12, 1.0 - 2f64.powi(-40)] {
-                let (u2, _) = w.inverse(&w.map(&u, &0.3)).unwrap();
+                let [u2, _] = w.inverse(&w.map(&u, &0.3)).unwrap();
                 if k <= 1.0 {
                     assert_eq!(u2, u, "k={k}");
                 } else {
@@ -739,7 +740,7 @@ mod tests {
             let want = u.powf(k / (k + 1.0));
             prop_assert!((d * w.measure() - want).abs() <= 1e-9 * want.max(1e-300), "{} {}", d, want);
             if u > 1e-300 && u < 1.0 {
-                let (u2, v2) = w.inverse(&p).unwrap();
+                let [u2, v2] = w.inverse(&p).unwrap();
                 prop_assert!((u2 - u).abs() <= 1e-11 * u, "k={} u={} u2={}", k, u, u2);
                 let dv = (v2 - v).abs();
                 prop_assert!(dv.min(1.0 - dv) <= 1e-9, "k={} u={} v={} v2={}", k, u, v, v2);

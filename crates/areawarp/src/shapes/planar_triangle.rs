@@ -6,6 +6,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 
 /// Euclidean length computed as `m·sqrt(Σ (x_i/m)²)` with `m` the largest
@@ -90,7 +91,7 @@ fn anchored<T: Real>(v: &Vec3<T>, w1: &T, e1: &Vec3<T>, w2: &T, e2: &Vec3<T>) ->
 /// assert_eq!(tri.measure(), 1.0);
 /// let p = tri.map(&0.25, &0.5); // √u = 1/2: halfway to BC, middle of the segment
 /// assert!((p.x - 0.5).abs() < 1e-15 && (p.y - 0.25).abs() < 1e-15);
-/// let (u, v) = tri.inverse(&p).unwrap();
+/// let [u, v] = tri.inverse(&p).unwrap();
 /// assert!((u - 0.25).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -318,7 +319,7 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
     }
 
     /// `1 / area`, whatever `p` (the density is constant; `p` is not checked).
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_area.clone()
     }
 
@@ -329,12 +330,10 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
 
     /// `(u, v) = (s², t)` from [`PlanarTriangle::chart`]; `None` if `p` is not
     /// finite or lies farther than `1024·u·extent` from the triangle.
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > self.inverse_tolerance {
-            return None;
-        }
-        let (s, t) = self.chart(p)?;
-        Some((s.square(), t))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.inverse_tolerance)?;
+        let (s, t) = self.chart(p).ok_or_else(|| InverseError::refuse(self, p))?;
+        Ok([s.square(), t])
     }
 
     /// Euclidean distance from `p` to the (closed) triangle: the distance off
@@ -367,6 +366,8 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
         self.extent.clone()
     }
 }
+
+crate::warp::distribution_for_floats!(PlanarTriangle, Vec3);
 
 impl<T: Real> WarpFamily<T> for PlanarTriangle<T> {
     type At<S: Real> = PlanarTriangle<S>;
@@ -565,8 +566,8 @@ mod tests {
         let beyond = t.b().add(&t.b().sub(t.a()).scale(&0.25));
         let d = t.outside_by(&beyond);
         assert!((d - 0.25 * t.b().sub(t.a()).norm()).abs() < 1e-12, "{d}");
-        assert!(t.inverse(&off).is_none());
-        assert!(t.inverse(&beyond).is_none());
+        assert!(t.inverse(&off).is_err());
+        assert!(t.inverse(&beyond).is_err());
     }
 
     #[test]
@@ -595,7 +596,7 @@ mod tests {
         for u in grid() {
             for v in grid() {
                 let p = t.map(&u, &v);
-                let (u2, v2) = t.inverse(&p).expect("on the triangle");
+                let [u2, v2] = t.inverse(&p).expect("on the triangle");
                 assert!((0.0..=1.0).contains(&u2) && (0.0..=1.0).contains(&v2));
                 assert!((u - u2).abs() <= 1e-12, "u: ({u},{v}) -> ({u2},{v2})");
                 // v is singular at u = 0: compare it weighted by s = √u.
@@ -609,9 +610,9 @@ mod tests {
             }
         }
         // The apex: s = 0 gives t = 0, not NaN.
-        assert_eq!(t.inverse(t.a()), Some((0.0, 0.0)));
-        assert_eq!(t.inverse(t.c()), Some((1.0, 1.0)));
-        assert!(t.inverse(&Vec3::new(f64::NAN, 0.0, 0.0)).is_none());
+        assert_eq!(t.inverse(t.a()), Ok([0.0, 0.0]));
+        assert_eq!(t.inverse(t.c()), Ok([1.0, 1.0]));
+        assert!(t.inverse(&Vec3::new(f64::NAN, 0.0, 0.0)).is_err());
     }
 
     #[test]
@@ -758,7 +759,7 @@ mod tests {
                 let d = p.sub(&q).norm();
                 assert!(d <= tol, "({u}, {v}): {d}");
                 // The composed inverse agrees too.
-                if let (Some((u1, v1)), Some((u2, v2))) = (t.inverse(&p), w.inverse(&p)) {
+                if let (Ok([u1, v1]), Ok([u2, v2])) = (t.inverse(&p), w.inverse(&p)) {
                     assert!((u1 - &u2).abs() <= Mpfr256::exp2i(-240));
                     assert!((v1 - &v2).abs() <= Mpfr256::exp2i(-240));
                 } else {
@@ -831,7 +832,7 @@ mod tests {
             prop_assert!(p.is_finite());
             let out = t.outside_by(&p);
             prop_assert!(out <= 16.0 * ur * t.extent(), "outside_by = {:e}", out);
-            let (u2, v2) = t.inverse(&p).expect("mapped point is on the triangle");
+            let [u2, v2] = t.inverse(&p).expect("mapped point is on the triangle");
             let tol = 256.0 * ur * kappa;
             prop_assert!((u - u2).abs() <= tol, "u {} -> {}", u, u2);
             prop_assert!(u.sqrt() * (v - v2).abs() <= tol, "v {} -> {}", v, v2);

@@ -240,7 +240,7 @@ mod tests {
         for n in [v(1.0, 0.0, 0.0), v(0.0, 1.0, 0.0), v(0.0, 0.0, 3.0)] {
             assert!((projected_solid_angle(&o, &n) - PI / 4.0).abs() < 1e-15);
         }
-        let r = [o[2].clone(), o[1].clone(), o[0].clone()];
+        let r = [o[2], o[1], o[0]];
         assert!((projected_solid_angle(&r, &v(0.0, 0.0, 1.0)) + PI / 4.0).abs() < 1e-15);
     }
 

@@ -7,6 +7,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::InverseError;
 use crate::warp::{Warp, WarpFamily};
 use rand::{Rng, RngExt};
 
@@ -136,7 +137,7 @@ fn local_inverse<T: Real>(l: &Vec3<T>, inv_two_pi: &T) -> (T, T) {
 /// assert!((p.z + 0.5).abs() < 1e-15); // z = 1 − 2u
 /// assert!((p.norm() - 1.0).abs() < 1e-15);
 /// assert!((s.pdf(&p) * s.measure() - 1.0).abs() < 1e-15);
-/// let (u, v) = s.inverse(&p).unwrap();
+/// let [u, v] = s.inverse(&p).unwrap();
 /// assert!((u - 0.75).abs() < 1e-15 && (v - 0.25).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -303,7 +304,7 @@ impl<T: Real> Warp<T> for Sphere<T> {
         }
     }
 
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_four_pi.clone()
     }
 
@@ -311,20 +312,21 @@ impl<T: Real> Warp<T> for Sphere<T> {
         self.four_pi.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
-        Some(match &self.frame {
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        let (u, v) = match &self.frame {
             Some(f) => local_inverse(&f.to_local(p), &self.inv_two_pi),
             None => local_inverse(p, &self.inv_two_pi),
-        })
+        };
+        Ok([u, v])
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
         (p.norm() - &T::one()).abs()
     }
 }
+
+crate::warp::distribution_for_floats!(Sphere, Vec3);
 
 impl<T: Real> WarpFamily<T> for Sphere<T> {
     type At<S: Real> = Sphere<S>;
@@ -609,7 +611,7 @@ mod tests {
     #[test]
     fn sphere_poles_follow_axis() {
         for a in axes() {
-            let w = Sphere::with_axis(a.clone()).unwrap();
+            let w = Sphere::with_axis(a).unwrap();
             let n = w.axis();
             assert!(w.map(&0.0, &0.3).sub(&n).max_abs() <= 4.0 * f64::EPSILON);
             assert!(w.map(&1.0, &0.3).add(&n).max_abs() <= 4.0 * f64::EPSILON);
@@ -630,7 +632,7 @@ mod tests {
     #[test]
     fn sphere_roundtrip_f64() {
         for a in axes() {
-            let w = Sphere::with_axis(a.clone()).unwrap();
+            let w = Sphere::with_axis(a).unwrap();
             for &u in &edges() {
                 if u == 0.0 || u == 1.0 {
                     continue; // the poles: v undefined
@@ -639,7 +641,7 @@ mod tests {
                     if v == 1.0 {
                         continue;
                     }
-                    let (u2, v2) = w.inverse(&w.map(&u, &v)).unwrap();
+                    let [u2, v2] = w.inverse(&w.map(&u, &v)).unwrap();
                     // Axes ±z have exact frames: u is recovered to relative
                     // accuracy. In a rotated frame the point's own rounding
                     // (≈ 2^-53 absolute) limits u to absolute accuracy, and v
@@ -663,10 +665,10 @@ mod tests {
     #[test]
     fn sphere_roundtrip_exact_near_south_pole() {
         for a in axes() {
-            let w = Sphere::with_axis(a.clone()).unwrap();
+            let w = Sphere::with_axis(a).unwrap();
             for u in [1.0 - 1e-6, 1.0 - 1e-12, 1.0 - 2f64.powi(-40)] {
                 for v in [0.0, 0.3, 0.8] {
-                    let (u2, _) = w.inverse(&w.map(&u, &v)).unwrap();
+                    let [u2, _] = w.inverse(&w.map(&u, &v)).unwrap();
                     assert_eq!(u2, u, "{a:?} v={v}");
                 }
             }
@@ -676,9 +678,9 @@ mod tests {
     #[test]
     fn sphere_inverse_rejects_off_shape() {
         let w = Sphere::<f64>::new();
-        assert!(w.inverse(&Vec3::new(0.0, 0.0, 1.1)).is_none());
-        assert!(w.inverse(&Vec3::new(0.0, f64::INFINITY, 1.0)).is_none());
-        assert_eq!(w.inverse(&Vec3::new(0.0, 0.0, -1.0)), Some((1.0, 0.0)));
+        assert!(w.inverse(&Vec3::new(0.0, 0.0, 1.1)).is_err());
+        assert!(w.inverse(&Vec3::new(0.0, f64::INFINITY, 1.0)).is_err());
+        assert_eq!(w.inverse(&Vec3::new(0.0, 0.0, -1.0)), Ok([1.0, 0.0]));
     }
 
     #[test]
@@ -868,9 +870,9 @@ mod tests {
             prop_assert!(w.outside_by(&p) <= 8.0 * f64::EPSILON);
             // Height along the axis is 1 − 2u.
             prop_assert!((p.dot(&w.axis()) - (1.0 - 2.0 * u)).abs() <= 8.0 * f64::EPSILON);
-            let (u2, _v2) = w.inverse(&p).unwrap();
+            let [u2, _v2] = w.inverse(&p).unwrap();
             prop_assert!((u2 - u).abs() <= 1e-12);
-            let (u3, v3) = Sphere::<f64>::new().inverse(&Sphere::<f64>::new().map(&u, &v)).unwrap();
+            let [u3, v3] = Sphere::<f64>::new().inverse(&Sphere::<f64>::new().map(&u, &v)).unwrap();
             prop_assert!((u3 - u).abs() <= 1e-12 * u);
             if u > 1e-6 && u < 1.0 - 1e-6 {
                 let dv = (v3 - v).abs();

@@ -25,7 +25,8 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::InverseError;
+use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use geometry::Geometry;
 use literal::Literal;
 use robust::Robust;
@@ -82,22 +83,6 @@ impl core::str::FromStr for SphericalRectangleVariant {
             }),
         }
     }
-}
-
-/// One sample of a [`SphericalRectangle`]: the point on the rectangle, the
-/// unit direction to it from the observer and both densities.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RectangleSample<T> {
-    /// The point `s + ξ e_x + η e_y` on the rectangle.
-    pub point: Vec3<T>,
-    /// The unit direction from the observer towards the point.
-    pub direction: Vec3<T>,
-    /// Density in solid angle: `1/Ω`.
-    pub pdf: T,
-    /// Density in area on the rectangle: `cos θ_p / (Ω r²)`, with `r` the
-    /// distance from the observer and `θ_p` the angle between the direction
-    /// and the rectangle's normal.
-    pub pdf_area: T,
 }
 
 /// `x` clamped to `[0, 1]`, NaN kept.
@@ -171,7 +156,7 @@ fn on_shape_tolerance<T: Real>() -> T {
 /// assert!((r.solid_angle() - 4.0 * 0.2f64.asin()).abs() < 1e-15);
 /// let (p, d) = r.sample_point(&0.5, &0.5);
 /// assert!(p.norm() < 1e-15 && (d.z + 1.0).abs() < 1e-15); // the centre
-/// let (u, v) = r.inverse(&d).unwrap();
+/// let [u, v] = r.inverse(&d).unwrap();
 /// assert!((u - 0.5).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -345,12 +330,13 @@ impl<T: Real> SphericalRectangle<T> {
     /// on the rectangle and the unit direction from the observer to it.
     /// `u`, `v` are clamped to `[0, 1]` (NaN stays NaN).
     pub fn sample_point(&self, u: &T, v: &T) -> (Vec3<T>, Vec3<T>) {
-        let s = self.sample(u, v);
+        let s = self.sample_full(u, v);
         (s.point, s.direction)
     }
 
-    /// M(u, v) with both densities ([`RectangleSample`]).
-    pub fn sample(&self, u: &T, v: &T) -> RectangleSample<T> {
+    /// M(u, v) with the point, its distance and both densities
+    /// ([`LightWarp::sample_light`] by reference).
+    fn sample_full(&self, u: &T, v: &T) -> LightSample<T> {
         let (u, v) = (clamp_unit(u), clamp_unit(v));
         match &self.literal {
             None => self.sample_robust(&u, &v),
@@ -365,9 +351,10 @@ impl<T: Real> SphericalRectangle<T> {
                     self.geometry.zhat.neg()
                 };
                 let pdf_area = self.geometry.h_world.clone() * &self.inv_omega / &(r2 * &r);
-                RectangleSample {
+                LightSample {
                     point,
                     direction,
+                    distance: r,
                     pdf: self.inv_omega.clone(),
                     pdf_area,
                 }
@@ -375,7 +362,7 @@ impl<T: Real> SphericalRectangle<T> {
         }
     }
 
-    fn sample_robust(&self, u: &T, v: &T) -> RectangleSample<T> {
+    fn sample_robust(&self, u: &T, v: &T) -> LightSample<T> {
         let g = &self.geometry;
         let (xi, x) = self.robust.column_at(u);
         let (eta, y) = self.robust.row_at(&x, v);
@@ -385,9 +372,11 @@ impl<T: Real> SphericalRectangle<T> {
         let r = (x.square() + &y.square() + &g.h.square()).sqrt();
         let c = g.h.clone() / &r;
         let pdf_area = c.square() * &c * &self.inv_omega / &g.h_world.square();
-        RectangleSample {
+        LightSample {
             point,
             direction,
+            // The local frame is the world scaled by h/h_world.
+            distance: g.h_world.clone() / &c,
             pdf: self.inv_omega.clone(),
             pdf_area,
         }
@@ -450,11 +439,21 @@ impl<T: Real> SphericalRectangle<T> {
     /// same for both variants). `None` if `p` is not finite or farther than
     /// `2^(−p/2) (|s| + |e_x| + |e_y|)` from the rectangle
     /// ([`SphericalRectangle::point_outside_by`]).
-    pub fn inverse_point(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !self.on_rectangle(p) {
-            return None;
+    ///
+    /// # Errors
+    /// [`InverseError::NonFinite`] or [`InverseError::OffShape`] (with the
+    /// distance to the rectangle) for a point that is not on it.
+    pub fn inverse_point(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        if !p.is_finite() {
+            return Err(InverseError::NonFinite);
         }
-        Some(self.point_uv(p))
+        if !self.on_rectangle(p) {
+            return Err(InverseError::OffShape {
+                distance: self.point_outside_by(p).to_f64(),
+            });
+        }
+        let (u, v) = self.point_uv(p);
+        Ok([u, v])
     }
 
     /// `(u, v)` of the point of the rectangle nearest to `p` (no check).
@@ -503,23 +502,18 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
 
     /// The unit direction of M(u, v) ([`SphericalRectangle::sample_point`]).
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
-        self.sample(u, v).direction
-    }
-
-    /// `1/Ω` for directions on the spherical rectangle (within `2^(−p/2)`),
-    /// 0 elsewhere.
-    fn pdf(&self, d: &Vec3<T>) -> T {
-        if self.contains(d) {
-            self.inv_omega.clone()
-        } else {
-            T::zero()
-        }
+        self.sample_full(u, v).direction
     }
 
     /// The direction of M(u, v) and `1/Ω`, without [`Warp::pdf`]'s test
     /// that the direction lies on the rectangle (it does, by construction).
     fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
-        (self.sample(u, v).direction, self.inv_omega.clone())
+        (self.sample_full(u, v).direction, self.inv_omega.clone())
+    }
+
+    /// `1/Ω`.
+    fn pdf_unchecked(&self, _d: &Vec3<T>) -> T {
+        self.inv_omega.clone()
     }
 
     /// Ω.
@@ -532,11 +526,12 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
     /// `v = (h(y) − h₀)/(h₁ − h₀)`, computed without cancellation (the same
     /// for both variants). `None` if `d` is not finite or lies farther than
     /// `2^(−p/2)` from the spherical rectangle.
-    fn inverse(&self, d: &Vec3<T>) -> Option<(T, T)> {
-        if !self.contains(d) {
-            return None;
-        }
-        self.direction_uv(d)
+    fn inverse(&self, d: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, d, &on_shape_tolerance::<T>())?;
+        let (u, v) = self
+            .direction_uv(d)
+            .ok_or_else(|| InverseError::refuse(self, d))?;
+        Ok([u, v])
     }
 
     /// `| |d| − 1 |` plus the Euclidean distance from the normalized `d` to
@@ -551,6 +546,22 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
         radial + &self.robust.outside_local(&a, &b, &c)
     }
 }
+
+impl<T: Real> LightWarp<T> for SphericalRectangle<T> {
+    fn observer(&self) -> Vec3<T> {
+        self.geometry.o.clone()
+    }
+
+    /// M(u, v): the direction, the point `s + ξ e_x + η e_y` on the
+    /// rectangle, its distance `r` from the observer, `1/Ω` and the density
+    /// in area `cos θ_p / (Ω r²) = h / (Ω r³)`.
+    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
+        let [u, v] = uv;
+        self.sample_full(&u, &v)
+    }
+}
+
+crate::warp::distribution_for_floats!(SphericalRectangle, Vec3);
 
 impl<T: Real> WarpFamily<T> for SphericalRectangle<T> {
     type At<S: Real> = SphericalRectangle<S>;

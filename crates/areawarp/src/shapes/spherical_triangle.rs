@@ -21,7 +21,8 @@ pub use recipe::SphericalTriangleRecipe;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::InverseError;
+use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use literal::Literal;
 
 /// Which evaluation of Arvo's spherical-triangle map a [`SphericalTriangle`]
@@ -269,7 +270,7 @@ impl<T: Real> Anchor<T> {
 /// assert!((t.solid_angle() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
 /// let p = t.map(&0.3, &0.7);
 /// assert!((p.norm() - 1.0).abs() < 1e-15 && p.x >= 0.0 && p.y >= 0.0 && p.z >= 0.0);
-/// let (u, v) = t.inverse(&p).unwrap();
+/// let [u, v] = t.inverse(&p).unwrap();
 /// assert!((u - 0.3).abs() < 1e-14 && (v - 0.7).abs() < 1e-14);
 /// assert_eq!(t.map(&0.5, &0.0), Vec3::new(0.0, 1.0, 0.0)); // v = 0 is B
 /// ```
@@ -307,6 +308,18 @@ pub struct SphericalTriangle<T> {
     positive: bool,
     /// The published algorithm's constants.
     literal: Literal<T>,
+    /// The planar triangle behind the directions, for
+    /// [`LightWarp::sample_light`].
+    emitter: Emitter<T>,
+}
+
+/// The planar triangle a [`SphericalTriangle`] is the image of: its vertices
+/// relative to the observer (the vectors given to the constructor, not
+/// normalized) and the observer.
+#[derive(Clone, Debug)]
+struct Emitter<T> {
+    observer: Vec3<T>,
+    vertices: [Vec3<T>; 3],
 }
 
 impl<T: Real> SphericalTriangle<T> {
@@ -341,6 +354,10 @@ impl<T: Real> SphericalTriangle<T> {
         }
         let zero_vertex = WarpError::Degenerate {
             what: "zero vertex direction",
+        };
+        let emitter = Emitter {
+            observer: Vec3::zero(),
+            vertices: [a.clone(), b.clone(), c.clone()],
         };
         let a = unit(&a).ok_or(zero_vertex.clone())?;
         let b = unit(&b).ok_or(zero_vertex.clone())?;
@@ -426,6 +443,7 @@ impl<T: Real> SphericalTriangle<T> {
             n_ca,
             positive: ccw,
             literal,
+            emitter,
             a,
             b,
             c,
@@ -455,7 +473,31 @@ impl<T: Real> SphericalTriangle<T> {
                 return Err(WarpError::NonFinite { what });
             }
         }
-        Self::new(p0.sub(&observer), p1.sub(&observer), p2.sub(&observer))
+        let mut t = Self::new(p0.sub(&observer), p1.sub(&observer), p2.sub(&observer))?;
+        t.emitter.observer = observer;
+        Ok(t)
+    }
+
+    /// The barycentric coordinates `[b_A, b_B, b_C]` (non-negative, summing
+    /// to 1) of the point where the ray from the observer along `direction`
+    /// meets the plane of the triangle's vertices, the vectors given to the
+    /// constructor: `b_A ∝ d·(B × C)`, `b_B ∝ d·(C × A)`, `b_C ∝ d·(A × B)`
+    /// (signed volumes), clamped to the triangle.
+    pub fn barycentrics(&self, direction: &Vec3<T>) -> [T; 3] {
+        let [va, vb, vc] = &self.emitter.vertices;
+        let zero = T::zero();
+        let sign = if self.positive { T::one() } else { -T::one() };
+        let w = [
+            (direction.dot(&vb.cross(vc)) * &sign).max(&zero),
+            (direction.dot(&vc.cross(va)) * &sign).max(&zero),
+            (direction.dot(&va.cross(vb)) * &sign).max(&zero),
+        ];
+        let sum = w[0].clone() + &w[1] + &w[2];
+        if !(sum > zero) || !sum.is_finite() {
+            let third = T::from_ratio(1, 3);
+            return [third.clone(), third.clone(), third];
+        }
+        w.map(|x| x / &sum)
     }
 
     /// The same triangle evaluated with `variant`.
@@ -486,8 +528,8 @@ impl<T: Real> SphericalTriangle<T> {
     /// `Ω = 2·atan2(|det(A, B, C)|, 1 + A·B + B·C + C·A)`, accurate to a few
     /// units of roundoff relative for every accepted triangle. The density of
     /// both variants is `1/Ω`.
-    pub fn solid_angle(&self) -> &T {
-        &self.omega
+    pub fn solid_angle(&self) -> T {
+        self.omega.clone()
     }
 
     /// Girard's solid angle α + β + γ − π with the angles computed as in the
@@ -495,8 +537,8 @@ impl<T: Real> SphericalTriangle<T> {
     /// angles by `acos` of normalized edge-plane normals): the value the
     /// published algorithm samples with. Loses all accuracy for small
     /// triangles; for comparison only.
-    pub fn girard_solid_angle(&self) -> &T {
-        &self.literal.area
+    pub fn girard_solid_angle(&self) -> T {
+        self.literal.area.clone()
     }
 
     /// `true` if `det(A, B, C) > 0` (the vertices run counter-clockwise seen
@@ -720,7 +762,7 @@ impl<T: Real> Warp<T> for SphericalTriangle<T> {
     /// `1/Ω` (Van Oosterom–Strackee Ω, for both variants), whatever `p`: the
     /// density is constant on the triangle; use
     /// [`SphericalTriangle::contains`] to test membership.
-    fn pdf(&self, _p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_omega.clone()
     }
 
@@ -732,23 +774,20 @@ impl<T: Real> Warp<T> for SphericalTriangle<T> {
     /// `(u, v)` of the direction `p` (normalized first): `C_s` is where the
     /// great circle through B and p meets the arc AC, `u = area(A B C_s)/Ω`
     /// and `v = |p − B|²/|C_s − B|²` (= (1 − cos∠Bp)/(1 − cos∠BC_s) by
-    /// half-angle sines). The robust variant computes the area with the same
-    /// half-angle formula as the map; the literal one with Girard's formula
-    /// and `v` from `1 − B·p`. `None` if `p` is not finite or lies farther
-    /// than `2^(−p/2)` from the triangle ([`SphericalTriangle::contains`]);
+    /// half-angle sines), the area with the same half-angle formula as the
+    /// robust map, for both variants (Arvo 1995 gives no inverse; the
+    /// literal Girard-formula inverse returned NaN at the edges v = 0 and
+    /// u = 0). Refuses `p` if it is not finite or lies farther than
+    /// `2^(−p/2)` from the triangle ([`SphericalTriangle::contains`]);
     /// `p = B` gives `(0, 0)`.
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || !self.contains(p) {
-            return None;
-        }
-        let q = unit(p)?;
-        match self.variant {
-            SphericalTriangleVariant::Robust => self.inverse_robust(&q),
-            SphericalTriangleVariant::Literal => {
-                let (u, v) = self.literal.inverse(&self.a, &self.b, &self.c, &q);
-                Some((clamp_keep_nan(&u), clamp_keep_nan(&v)))
-            }
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        let refuse = || InverseError::refuse(self, p);
+        let q = unit(p).ok_or_else(refuse)?;
+        // Both variants invert with the robust formulas: Arvo (1995) gives
+        // no inverse, and the map is the same function in both.
+        let (u, v) = self.inverse_robust(&q).ok_or_else(refuse)?;
+        Ok([u, v])
     }
 
     /// A lower bound of the Euclidean distance from `p` to the triangle (as a
@@ -794,22 +833,35 @@ impl<T: Real> WarpFamily<T> for SphericalTriangle<T> {
     }
 }
 
-// `rand::distr::Distribution` directly on the f32/f64 triangles (so that
-// `tri.sample(&mut rng)` works); `crate::sampling::WarpSampler` wraps any
-// warp the same way and draws the same (u, v).
-macro_rules! impl_distribution {
-    ($t:ty) => {
-        impl rand::distr::Distribution<Vec3<$t>> for SphericalTriangle<$t> {
-            /// A uniform direction in the triangle: ψ(u, v) of two uniform
-            /// `[0, 1)` numbers from `rng`.
-            fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> Vec3<$t> {
-                use rand::RngExt;
-                let u: $t = rng.random();
-                let v: $t = rng.random();
-                Warp::map(self, &u, &v)
-            }
+crate::warp::distribution_for_floats!(SphericalTriangle, Vec3);
+
+impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
+    /// The observer given to [`SphericalTriangle::from_points`] (the origin
+    /// for [`SphericalTriangle::new`]).
+    fn observer(&self) -> Vec3<T> {
+        self.emitter.observer.clone()
+    }
+
+    /// The direction ψ(u, v) and the point where it meets the planar
+    /// triangle whose vertices the constructor was given (relative to the
+    /// observer): with `n = (B − A) × (C − A)`, the ray `t·d` meets the plane
+    /// at `t = det(A, B, C) / (d·n)`, and `|cos θ_e| = |d·n| / |n|`.
+    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
+        let [u, v] = uv;
+        let d = self.map(&u, &v);
+        let [va, vb, vc] = &self.emitter.vertices;
+        let n = vb.sub(va).cross(&vc.sub(va));
+        let dn = d.dot(&n);
+        let t = (va.dot(&n) / &dn).abs();
+        let cos_e = dn.abs() / &n.norm();
+        let pdf = self.inv_omega.clone();
+        let pdf_area = pdf.clone() * &cos_e / &t.square();
+        LightSample {
+            point: self.emitter.observer.add(&d.scale(&t)),
+            direction: d,
+            distance: t,
+            pdf,
+            pdf_area,
         }
-    };
+    }
 }
-impl_distribution!(f32);
-impl_distribution!(f64);

@@ -17,7 +17,8 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::InverseError;
+use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
@@ -164,7 +165,7 @@ impl<T: Real> Frame<T> {
 /// assert!((p.norm() - 1.0).abs() < 1e-15);
 /// assert!(w.outside_by(&p) < 1e-15);
 /// assert!((w.pdf(&p) - p.z / w.measure()).abs() < 1e-15);
-/// let (u, v) = w.inverse(&p).unwrap();
+/// let [u, v] = w.inverse(&p).unwrap();
 /// assert!((u - 0.3).abs() < 1e-12 && (v - 0.7).abs() < 1e-12);
 ///
 /// // The bare cubic: faster, slightly biased.
@@ -646,9 +647,8 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
         }
     }
 
-    /// `max(cos θ, 0) / Π`, with `cos θ = n · p / |p|` (not zeroed outside
-    /// the polygon).
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    /// `cos θ / Π` without the test that `p` lies on the polygon.
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         let l = self.local(p);
         let n = l.norm();
         if !(n > T::zero()) {
@@ -664,11 +664,10 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
 
     /// `(u, v) = (F(φ), G_φ(r²))`; `None` if `p` is not finite or lies
     /// farther than `2^(−p/2)` outside the polygon.
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
-        let d = self.local(p).normalized()?;
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        let refuse = || InverseError::refuse(self, p);
+        let d = self.local(p).normalized().ok_or_else(refuse)?;
         let (mut l, mut p) = self.locate_azimuth(&d.y.atan2(&d.x));
         if self.lunes[l].active.is_none() {
             // On a meridian bounding the polygon, within rounding: snap to
@@ -676,10 +675,12 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
             let m = self.lunes.len();
             let next = (1..m)
                 .map(|i| (l + i) % m)
-                .find(|&j| self.lunes[j].active.is_some())?;
+                .find(|&j| self.lunes[j].active.is_some())
+                .ok_or_else(refuse)?;
             let prev = (1..m)
                 .map(|i| (l + m - i) % m)
-                .find(|&j| self.lunes[j].active.is_some())?;
+                .find(|&j| self.lunes[j].active.is_some())
+                .ok_or_else(refuse)?;
             let to_next = self.lunes[l].end_az.clone() - &p;
             let to_prev = p.clone() - &self.lunes[l].start;
             if to_next <= to_prev {
@@ -695,7 +696,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.max(&T::zero()).square();
         let v = self.lunes[l].conditional_cdf(&self.edges, &self.pairs, side, &c, &s, &r2, &z2);
-        Some((u, v))
+        Ok([u, v])
     }
 
     /// `| |p| − 1 |` plus, for a direction outside the clipped polygon, the
@@ -720,6 +721,57 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
         radial + &best
     }
 }
+
+impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
+    /// The observer given to [`ProjectedPolygon::from_points`] (the origin
+    /// for [`ProjectedPolygon::new`]).
+    fn observer(&self) -> Vec3<T> {
+        match &self.source {
+            Source::Points { observer, .. } => observer.clone(),
+            Source::Directions(_) => Vec3::zero(),
+        }
+    }
+
+    /// The cosine-weighted direction ψ(u, v) and the point where it meets
+    /// the plane of the polygon's corners (relative to the observer; the
+    /// plane through their centroid with Newell's normal `n`, exact for a
+    /// planar polygon): `t = (n·c̄)/(n·d)`, `|cos θ_e| = |n·d|/|n|`. The
+    /// plane is computed here, not at construction, so that a sampler that
+    /// never asks for points does not pay for it.
+    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
+        let [u, v] = uv;
+        let (d, pdf) = self.map_with_pdf(&u, &v);
+        let (corners, observer) = match &self.source {
+            Source::Points {
+                points, observer, ..
+            } => (points, observer.clone()),
+            Source::Directions(v) => (v, Vec3::zero()),
+        };
+        let k = corners.len();
+        let rel = |i: usize| corners[i % k].sub(&observer);
+        let mut n = Vec3::zero();
+        let mut centroid = Vec3::zero();
+        for i in 0..k {
+            let (p, q) = (rel(i), rel(i + 1));
+            n = n.add(&p.cross(&q));
+            centroid = centroid.add(&p);
+        }
+        let centroid = centroid.scale(&(T::one() / &T::from_i64(k as i64)));
+        let dn = d.dot(&n);
+        let t = (centroid.dot(&n) / &dn).abs();
+        let cos_e = dn.abs() / &n.norm();
+        let pdf_area = pdf.clone() * &cos_e / &t.square();
+        LightSample {
+            point: observer.add(&d.scale(&t)),
+            direction: d,
+            distance: t,
+            pdf,
+            pdf_area,
+        }
+    }
+}
+
+crate::warp::distribution_for_floats!(ProjectedPolygon, Vec3);
 
 impl<T: Real> WarpFamily<T> for ProjectedPolygon<T> {
     type At<S: Real> = ProjectedPolygon<S>;

@@ -16,14 +16,7 @@ fn all_shapes() -> Vec<(String, [Vec3<f64>; 4])> {
 }
 
 fn build<T: Real>(p: &[Vec3<f64>; 4], variant: V) -> Result<SphericalRectangle<T>, WarpError> {
-    SphericalRectangle::<f64>::new_with(
-        p[0].clone(),
-        p[1].clone(),
-        p[2].clone(),
-        p[3].clone(),
-        variant,
-    )?
-    .at::<T>()
+    SphericalRectangle::<f64>::new_with(p[0], p[1], p[2], p[3], variant)?.at::<T>()
 }
 
 fn v3(x: f64, y: f64, z: f64) -> Vec3<f64> {
@@ -45,15 +38,15 @@ fn spherical_rectangle_constructor_errors() {
     let new = |s: Vec3<f64>, ex: Vec3<f64>, ey: Vec3<f64>, o: Vec3<f64>| {
         SphericalRectangle::new(s, ex, ey, o)
     };
-    assert!(new(s.clone(), ex.clone(), ey.clone(), o.clone()).is_ok());
+    assert!(new(s, ex, ey, o).is_ok());
     let nan = v3(f64::NAN, 0.0, 0.0);
     let inf = v3(0.0, f64::INFINITY, 0.0);
     for (i, bad) in [nan, inf].into_iter().enumerate() {
         let e = [
-            new(bad.clone(), ex.clone(), ey.clone(), o.clone()),
-            new(s.clone(), bad.clone(), ey.clone(), o.clone()),
-            new(s.clone(), ex.clone(), bad.clone(), o.clone()),
-            new(s.clone(), ex.clone(), ey.clone(), bad.clone()),
+            new(bad, ex, ey, o),
+            new(s, bad, ey, o),
+            new(s, ex, bad, o),
+            new(s, ex, ey, bad),
         ];
         for (j, r) in e.into_iter().enumerate() {
             assert!(
@@ -63,31 +56,31 @@ fn spherical_rectangle_constructor_errors() {
         }
     }
     // Zero-length edges.
-    let r = new(s.clone(), Vec3::zero(), ey.clone(), o.clone());
+    let r = new(s, Vec3::zero(), ey, o);
     assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
-    let r = new(s.clone(), ex.clone(), Vec3::zero(), o.clone());
+    let r = new(s, ex, Vec3::zero(), o);
     assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
     // Perpendicularity: |cos| = 32 u accepted, 128 u rejected.
     let u = f64::EPSILON / 2.0;
-    let ok = new(s.clone(), ex.clone(), v3(32.0 * u, 1.0, 0.0), o.clone());
+    let ok = new(s, ex, v3(32.0 * u, 1.0, 0.0), o);
     assert!(ok.is_ok(), "{ok:?}");
-    let skew = new(s.clone(), ex.clone(), v3(128.0 * u, 1.0, 0.0), o.clone());
+    let skew = new(s, ex, v3(128.0 * u, 1.0, 0.0), o);
     assert!(
         matches!(skew, Err(WarpError::InvalidParameter { .. })),
         "{skew:?}"
     );
-    let skew = new(s.clone(), ex.clone(), v3(0.5, 1.0, 0.0), o.clone());
+    let skew = new(s, ex, v3(0.5, 1.0, 0.0), o);
     assert!(matches!(skew, Err(WarpError::InvalidParameter { .. })));
     // The squared-up edge is exactly perpendicular.
     let r = ok.unwrap();
     assert_eq!(r.edge_y().x, 0.0);
     // Observer exactly in the plane (inside or outside the rectangle).
     for o in [v3(0.1, 0.2, -1.0), v3(3.0, -2.0, -1.0)] {
-        let r = new(s.clone(), ex.clone(), ey.clone(), o);
+        let r = new(s, ex, ey, o);
         assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
     }
     // Zero solid angle: so far away that Ω underflows.
-    let r = new(s.clone(), ex.clone(), ey.clone(), v3(0.0, 0.0, 1e200));
+    let r = new(s, ex, ey, v3(0.0, 0.0, 1e200));
     assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
     // The same errors at f32, and a tiny but non-zero height is accepted.
     let r = SphericalRectangle::<f32>::new(
@@ -125,8 +118,7 @@ fn spherical_rectangle_variant_names() {
 fn spherical_rectangle_head_on_square() {
     let [s, ex, ey, o] = unit_square();
     for variant in [V::Robust, V::Literal] {
-        let r = SphericalRectangle::new_with(s.clone(), ex.clone(), ey.clone(), o.clone(), variant)
-            .unwrap();
+        let r = SphericalRectangle::new_with(s, ex, ey, o, variant).unwrap();
         let omega = 4.0 * 0.2f64.asin();
         assert!((r.solid_angle() / omega - 1.0).abs() <= 2.0 * f64::EPSILON);
         assert!((r.girard_solid_angle() / omega - 1.0).abs() <= 1e-14);
@@ -385,7 +377,7 @@ mod accuracy {
             };
             let uv = (um.to_f64(), vm.to_f64());
             for (which, inv) in [(0, wt.inverse(&d)), (1, wt.inverse_point(&p))] {
-                let Some((a, b)) = inv.filter(|(a, b)| a.is_finite() && b.is_finite()) else {
+                let Some([a, b]) = inv.ok().filter(|[a, b]| a.is_finite() && b.is_finite()) else {
                     row.roundtrip_failures += 1;
                     continue;
                 };
@@ -600,15 +592,10 @@ mod exact {
     type M = Mpfr256;
 
     fn recipe_at_256(shape: &[Vec3<f64>; 4]) -> SphericalRectangleRecipe<M> {
-        SphericalRectangleRecipe::<f64>::new(
-            shape[0].clone(),
-            shape[1].clone(),
-            shape[2].clone(),
-            shape[3].clone(),
-        )
-        .unwrap()
-        .recast::<M>()
-        .unwrap()
+        SphericalRectangleRecipe::<f64>::new(shape[0], shape[1], shape[2], shape[3])
+            .unwrap()
+            .recast::<M>()
+            .unwrap()
     }
 
     fn newton() -> Newton {
@@ -793,7 +780,7 @@ mod exact {
                 .abs()
                 .to_f64();
             let mut kappa: f64 = 0.0;
-            let mut p = shape.clone();
+            let mut p = shape;
             for i in 0..4 {
                 for k in 0..3 {
                     let orig = p[i].to_array()[k];
@@ -844,7 +831,7 @@ fn spherical_rectangle_pdf_consistent() {
             let w = build::<f64>(&shape, variant).unwrap();
             let mut worst_area: f64 = 0.0;
             for &(u, v) in &pts {
-                let s = w.sample(&u, &v);
+                let s = w.sample_light([u, v]);
                 let pdf = w.pdf(&s.direction);
                 assert!(
                     (pdf / s.pdf - 1.0).abs() <= 1e-12,
@@ -905,7 +892,7 @@ fn spherical_rectangle_outside_rejected() {
         let (p, d) = w.sample_point(&0.3, &0.6);
         assert!(w.contains(&d) && w.outside_by(&d) <= 1e-15, "{name}");
         let away = d.neg();
-        assert!(w.inverse(&away).is_none(), "{name}");
+        assert!(w.inverse(&away).is_err(), "{name}");
         assert_eq!(w.pdf(&away), 0.0, "{name}");
         assert!(w.outside_by(&away) > 1e-3, "{name}");
         // Beyond the edge e_x by 10 % of its length.
@@ -913,25 +900,25 @@ fn spherical_rectangle_outside_rejected() {
             .corner()
             .add(&w.edge_x().scale(&1.1))
             .add(&w.edge_y().scale(&0.5));
-        assert!(w.inverse_point(&beyond).is_none(), "{name}");
+        assert!(w.inverse_point(&beyond).is_err(), "{name}");
         // Its direction is outside, but may be within the angular tolerance
         // 2^-26 when the observer grazes the plane.
         let dir = beyond.sub(w.observer());
         let dir = dir.scale(&(1.0 / dir.norm()));
         assert!(w.outside_by(&dir) > 0.0, "{name}");
         let near = w.outside_by(&dir) <= 2f64.powi(-26);
-        assert_eq!(w.inverse(&dir).is_some(), near, "{name}");
+        assert_eq!(w.inverse(&dir).is_ok(), near, "{name}");
         assert_eq!(w.pdf(&dir) > 0.0, near, "{name}");
         if !name.starts_with("grazing") {
             assert!(!near, "{name}");
         }
-        assert!(w.inverse_point(&p).is_some(), "{name}");
-        assert!(w.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_none());
-        assert!(w.inverse(&Vec3::zero()).is_none());
+        assert!(w.inverse_point(&p).is_ok(), "{name}");
+        assert!(w.inverse(&Vec3::new(f64::NAN, 0.0, 1.0)).is_err());
+        assert!(w.inverse(&Vec3::zero()).is_err());
         assert_eq!(w.outside_by(&Vec3::zero()), f64::MAX);
         assert!(
             w.inverse_point(&Vec3::new(f64::INFINITY, 0.0, 0.0))
-                .is_none()
+                .is_err()
         );
     }
 }
@@ -1017,18 +1004,16 @@ fn spherical_rectangle_chi_square_both_variants() {
     let shapes = ordinary_rectangles();
     let tests = 2 * shapes.len() as u32;
     for (name, [s, ex, ey, o]) in shapes {
-        let bins = RectangleBins::new(s.clone(), ex.clone(), ey.clone(), o.clone(), 8);
+        let bins = RectangleBins::new(s, ex, ey, o, 8);
         for variant in [V::Robust, V::Literal] {
-            let w =
-                SphericalRectangle::new_with(s.clone(), ex.clone(), ey.clone(), o.clone(), variant)
-                    .unwrap();
+            let w = SphericalRectangle::new_with(s, ex, ey, o, variant).unwrap();
             let out = run_chi_square(&w, &bins, 100_000, 7, 0.01, tests);
             assert!(out.passed, "{name} {variant}: {out:?}");
         }
     }
     // The same test rejects area-uniform points (a wrong density).
-    let [s, ex, ey, o] = ordinary_rectangles()[2].1.clone();
-    let bins = RectangleBins::new(s.clone(), ex.clone(), ey.clone(), o.clone(), 8);
+    let [s, ex, ey, o] = ordinary_rectangles()[2].1;
+    let bins = RectangleBins::new(s, ex, ey, o, 8);
     #[derive(Clone)]
     struct AreaUniform(SphericalRectangle<f64>);
     impl Warp<f64> for AreaUniform {
@@ -1042,14 +1027,14 @@ fn spherical_rectangle_chi_square_both_variants() {
             let d = p.sub(self.0.observer());
             d.scale(&(1.0 / d.norm()))
         }
-        fn pdf(&self, d: &Vec3<f64>) -> f64 {
+        fn pdf_unchecked(&self, d: &Vec3<f64>) -> f64 {
             self.0.pdf(d)
         }
         fn measure(&self) -> f64 {
             self.0.measure()
         }
-        fn inverse(&self, _d: &Vec3<f64>) -> Option<(f64, f64)> {
-            None
+        fn inverse(&self, _d: &Vec3<f64>) -> Result<[f64; 2], InverseError> {
+            Err(InverseError::NonFinite)
         }
         fn outside_by(&self, d: &Vec3<f64>) -> f64 {
             self.0.outside_by(d)
@@ -1106,7 +1091,7 @@ fn spherical_rectangle_speed() {
         best
     }
     fn time_build<T: Real>(shape: &[Vec3<f64>; 4], variant: V, pts: &[(T, T)]) -> f64 {
-        let [s, ex, ey, o] = shape.clone().map(|v| v.convert::<T>());
+        let [s, ex, ey, o] = (*shape).map(|v| v.convert::<T>());
         let mut best = f64::INFINITY;
         for _ in 0..7 {
             let t0 = Instant::now();

@@ -34,8 +34,8 @@ fn rotations(
     z: Vec3<f64>,
 ) -> Vec<(String, [Vec3<f64>; 3])> {
     vec![
-        (format!("{name}@A"), [x.clone(), y.clone(), z.clone()]),
-        (format!("{name}@B"), [z.clone(), x.clone(), y.clone()]),
+        (format!("{name}@A"), [x, y, z]),
+        (format!("{name}@B"), [z, x, y]),
         (format!("{name}@C"), [y, z, x]),
     ]
 }
@@ -91,7 +91,7 @@ fn near_hemisphere(eps: f64) -> [Vec3<f64>; 3] {
 /// use areawarp::shapes::{hard_triangles, SphericalTriangle};
 /// for (name, [a, b, c]) in hard_triangles() {
 ///     let t = SphericalTriangle::<f64>::new(a, b, c).unwrap();
-///     assert!(*t.solid_angle() > 0.0, "{name}");
+///     assert!(t.solid_angle() > 0.0, "{name}");
 /// }
 /// ```
 pub fn hard_triangles() -> Vec<(String, [Vec3<f64>; 3])> {

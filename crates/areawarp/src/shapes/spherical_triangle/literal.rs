@@ -91,20 +91,4 @@ impl<T: Real> Literal<T> {
         b.scale(&z)
             .add(&perp(&c_hat, b).scale(&(one - &z.square()).sqrt()))
     }
-
-    /// The textbook inverse in the same style (not published by Arvo):
-    /// `Ĉ = ±normalize((B × P) × (A × C))` on the side of A + C,
-    /// `u = girard(A, B, Ĉ)/𝒜`, `v = (1 − B·P)/(1 − B·Ĉ)`.
-    pub(super) fn inverse(&self, a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>, p: &Vec3<T>) -> (T, T) {
-        let one = T::one();
-        let x = plane_normal(&b.cross(p), &a.cross(c));
-        let c_hat = if x.dot(&a.add(c)) < T::zero() {
-            x.neg()
-        } else {
-            x
-        };
-        let u = girard(a, b, &c_hat) / &self.area;
-        let v = (one.clone() - &b.dot(p)) / &(one - &b.dot(&c_hat));
-        (u, v)
-    }
 }
