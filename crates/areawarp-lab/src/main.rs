@@ -26,7 +26,9 @@ struct Args {
 enum Command {
     /// Evaluate maps line by line: `MAP PARAMS… u v` → `MAP outputs…`.
     Eval {
-        /// Arithmetic: f32, f64 or mpfr:BITS (BITS one of 64, 113, 128, 192, 256, 512, 1024).
+        /// Arithmetic: f32, f64 or mpfr:BITS (BITS one of 64, 113, 128, 192, 256, 512, 1024);
+        /// or auto:TOL: each spherical triangle or rectangle evaluated the cheapest way
+        /// (f32, f32 output with f64 arithmetic, f64) predicted to stay within TOL.
         #[arg(long, default_value = "f64")]
         precision: String,
         /// Each line ends with a point instead of `u v`; print `MAP u v`.
@@ -70,6 +72,7 @@ fn main() -> ExitCode {
                 inverse,
                 literal: variant == "literal",
                 newton,
+                tolerance: None,
             };
             cli::eval::main(&precision, opts, file.as_deref())
         }

@@ -321,3 +321,39 @@ fn solid_angle_maps_through_the_cli() {
     assert!(!ok);
     assert!(out.lines().all(|l| l.contains(" error: ")), "{out}");
 }
+
+/// `--precision auto:TOL`: each light evaluated the cheapest way predicted
+/// to meet the tolerance; the issue-10 rectangle 1e-90 above its plane is
+/// served in f64 (f32 cannot hold its observer), in f32 at 1e-12 above it.
+#[test]
+fn eval_auto_precision() {
+    let input = "spherical-triangle 1 0.1 0 0.2 1 0.1 0 0.3 1 0.3 0.7\n\
+                 spherical-rectangle 0 0 0 1 0 0 0 1 0 3 2 1e-90 0.5 0.5\n\
+                 hemisphere 0.25 0.5\n";
+    let (out, ok) = run_eval(&["--precision", "auto:1e-5"], input);
+    assert!(ok, "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    assert!(lines[0].contains("# f32 robust"), "{out}");
+    assert_eq!(lines[0].split_whitespace().nth(4), Some("#"), "{out}");
+    assert!(lines[1].contains("# f64 robust"), "{out}");
+    assert!(!lines[1].contains("NaN"), "{out}");
+    assert!(lines[2].ends_with("# f64"), "{out}");
+    let (out, ok) = run_eval(&["--precision", "auto:1e-12"], input);
+    assert!(
+        ok && out.lines().next().unwrap().contains("# f64 robust"),
+        "{out}"
+    );
+    let (out, ok) = run_eval(
+        &["--precision", "f32"],
+        "spherical-rectangle 0 0 0 1 0 0 0 1 0 3 2 1e-12 0.5 0.5\n",
+    );
+    assert!(ok && !out.contains("NaN"), "{out}");
+    let (out, ok) = run_eval(
+        &["--precision", "f32"],
+        "spherical-rectangle 0 0 0 1 0 0 0 1 0 3 2 1e-38 0.5 0.5\n",
+    );
+    assert!(!ok && out.contains("not representable"), "{out}");
+    let (_, ok) = run_eval(&["--precision", "auto:0"], input);
+    assert!(!ok);
+}

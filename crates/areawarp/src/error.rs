@@ -15,6 +15,14 @@ pub enum WarpError {
         /// What is degenerate.
         what: &'static str,
     },
+    /// The shape is valid, but a quantity its map needs (a solid angle, a
+    /// density, a per-shape constant or a per-sample intermediate) is outside
+    /// the range of the scalar type: e.g. a triangle of 1e-60 sr in `f32`.
+    /// The same shape in a wider type is accepted.
+    Unrepresentable {
+        /// What does not fit.
+        what: &'static str,
+    },
     /// A parameter is outside its valid range.
     InvalidParameter {
         /// The parameter's name.
@@ -29,6 +37,9 @@ impl fmt::Display for WarpError {
         match self {
             WarpError::NonFinite { what } => write!(f, "{what} is not finite"),
             WarpError::Degenerate { what } => write!(f, "degenerate shape: {what}"),
+            WarpError::Unrepresentable { what } => {
+                write!(f, "not representable in this scalar type: {what}")
+            }
             WarpError::InvalidParameter { name, expected } => {
                 write!(f, "invalid parameter {name}: expected {expected}")
             }

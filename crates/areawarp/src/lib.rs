@@ -27,6 +27,7 @@ pub mod derivations;
 pub mod error;
 pub mod estimate;
 pub mod harness;
+pub mod precision_choice;
 pub mod real;
 pub mod recipe;
 pub mod sampling;

@@ -328,7 +328,17 @@ fn all_warps_in<T: Real>(label: &str) -> Tally {
     }
     for (name, [a, b, c]) in hard_triangles() {
         if let Ok(w) = SphericalTriangle::new(a, b, c) {
-            check_in::<T, _>(&w, &name, Uniform, Full, &mut t);
+            // f32 accepts the nearly hemispherical triangles since issue 13;
+            // near their flat corners the f32 map is ill-conditioned (κ₃₂ up
+            // to 0.6: one f32 ulp of a vertex moves it by that much), so
+            // map(inverse(p)) can only come back to p within that, not
+            // within 2^-12 (the map itself stays within 16·max(u, κ₃₂)).
+            let scope = if T::precision() <= 24 && name.starts_with("hemi") {
+                NoImage
+            } else {
+                Full
+            };
+            check_in::<T, _>(&w, &name, Uniform, scope, &mut t);
         }
     }
     for (name, [s, ex, ey, o]) in ordinary_rectangles() {

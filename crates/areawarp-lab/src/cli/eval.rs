@@ -28,10 +28,13 @@ pub struct Options {
     pub literal: bool,
     /// Newton steps after the cubic for `projected-polygon` (`None`: to convergence).
     pub newton: Option<u32>,
+    /// `--precision auto:TOL`: the largest error the caller accepts; the
+    /// light shapes are evaluated the cheapest way predicted to meet it.
+    pub tolerance: Option<f64>,
 }
 
 /// Entry point of `areawarp eval`.
-pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
+pub fn main(precision: &str, mut opts: Options, file: Option<&Path>) -> ExitCode {
     let input: Box<dyn BufRead> = match file {
         Some(path) => match std::fs::File::open(path) {
             Ok(f) => Box::new(BufReader::new(f)),
@@ -45,6 +48,16 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
     let run: LineEvaluator = match precision {
         "f32" => eval_line::<f32>,
         "f64" => eval_line::<f64>,
+        p if p.starts_with("auto:") => match p[5..].trim().parse::<f64>() {
+            Ok(tol) if tol > 0.0 => {
+                opts.tolerance = Some(tol);
+                super::eval_auto::eval_line_auto
+            }
+            _ => {
+                eprintln!("error: auto:TOL needs a positive tolerance, got {p}");
+                return ExitCode::from(2);
+            }
+        },
         p if p.starts_with("mpfr:") => match mpfr_evaluator(&p[5..]) {
             Some(f) => f,
             None => {
@@ -55,7 +68,7 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
             }
         },
         p => {
-            eprintln!("error: unknown precision {p}: expected f32, f64 or mpfr:BITS");
+            eprintln!("error: unknown precision {p}: expected f32, f64, mpfr:BITS or auto:TOL");
             return ExitCode::from(2);
         }
     };

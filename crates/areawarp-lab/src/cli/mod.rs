@@ -1,4 +1,5 @@
 //! The subcommands of the `areawarp` program.
 
 pub mod eval;
+pub mod eval_auto;
 pub mod report;

@@ -153,6 +153,13 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     let _ = writeln!(md, "\n{}\n{}", section, figure_links(out, &f, &section));
     all_figures.extend(f);
 
+    let choice = step("precision chosen per shape", || {
+        let cfg = crate::studies::precision_choice::ChoiceConfig::default();
+        Ok(crate::studies::precision_choice::run(&cfg)?)
+    })?;
+    choice.write_csv(out)?;
+    let _ = writeln!(md, "\n{}", choice.to_markdown());
+
     let spd = step("speed–accuracy study", || {
         let mut cfg = if quick {
             speed::SpeedConfig::quick()

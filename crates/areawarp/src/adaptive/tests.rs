@@ -138,9 +138,12 @@ fn adaptive_measures_against_references() {
             let rel = |x: f64, y: &Mpfr256| (x / y.to_f64() - 1.0).abs();
             assert!(rel(m.solid_angle, &h.solid_angle) < 1e-12, "{i}");
             // Lambert's sum of three O(size) terms to an O(size²) result:
-            // relative error ~ u/size (1e-12 for this set's 5e-3 rad slivers).
+            // relative error ~ u/size (1e-12 for this set's 5e-3 rad slivers,
+            // times the amplification of the unit vertices' own rounding:
+            // 1.5e-11 measured at the worst case with one-division
+            // normalization).
             assert!(
-                rel(m.projected_solid_angle, &h.projected_solid_angle) < 1e-11,
+                rel(m.projected_solid_angle, &h.projected_solid_angle) < 3e-11,
                 "{i}: {:e} {t:?} {}",
                 rel(m.projected_solid_angle, &h.projected_solid_angle),
                 m.projected_solid_angle

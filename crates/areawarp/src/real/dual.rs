@@ -158,6 +158,21 @@ impl<T: Real> Neg for Dual2<T> {
 }
 
 impl<T: Real> Real for Dual2<T> {
+    type Wide = Dual2<T::Wide>;
+    fn widen(&self) -> Dual2<T::Wide> {
+        Dual2 {
+            re: self.re.widen(),
+            du: self.du.widen(),
+            dv: self.dv.widen(),
+        }
+    }
+    fn narrow(w: &Dual2<T::Wide>) -> Self {
+        Dual2 {
+            re: T::narrow(&w.re),
+            du: T::narrow(&w.du),
+            dv: T::narrow(&w.dv),
+        }
+    }
     fn type_name() -> String {
         format!("dual<{}>", T::type_name())
     }

@@ -3,8 +3,17 @@
 use super::Real;
 
 macro_rules! impl_real_for_float {
-    ($t:ident, $bits:expr) => {
+    ($t:ident, $bits:expr, $u:ty) => {
         impl Real for $t {
+            type Wide = f64;
+            #[inline]
+            fn widen(&self) -> f64 {
+                *self as f64
+            }
+            #[inline]
+            fn narrow(w: &f64) -> Self {
+                *w as $t
+            }
             fn type_name() -> String {
                 stringify!($t).to_string()
             }
@@ -52,7 +61,13 @@ macro_rules! impl_real_for_float {
             }
             #[inline]
             fn exp2i(e: i32) -> Self {
-                (2.0 as $t).powi(e)
+                // Normal powers of two straight from the bits (no powi call).
+                const BIAS: i32 = $t::MAX_EXP - 1;
+                if e >= $t::MIN_EXP - 1 && e <= BIAS {
+                    $t::from_bits(((e + BIAS) as $u) << ($t::MANTISSA_DIGITS - 1))
+                } else {
+                    (2.0 as $t).powi(e)
+                }
             }
             #[inline]
             fn unit_roundoff() -> Self {
@@ -176,5 +191,5 @@ macro_rules! impl_real_for_float {
     };
 }
 
-impl_real_for_float!(f32, 24);
-impl_real_for_float!(f64, 53);
+impl_real_for_float!(f32, 24, u32);
+impl_real_for_float!(f64, 53, u64);

@@ -52,6 +52,20 @@ pub trait Real:
     + for<'a> MulAssign<&'a Self>
     + for<'a> DivAssign<&'a Self>
 {
+    /// The scalar in which constructors take their decisions and compute
+    /// the constants that cancellation would spoil: `f64` for `f32` and for
+    /// `f64`, the type itself for MPFR, `Dual2<T::Wide>` for [`Dual2<T>`].
+    ///
+    /// A shape built in `f32` thereby accepts exactly what the `f64`
+    /// constructor accepts on the same values, and its constants are the
+    /// `f64` values correctly rounded to `f32`; the per-sample arithmetic
+    /// stays in `Self`.
+    type Wide: Real;
+    /// `self` in [`Real::Wide`] (exact).
+    fn widen(&self) -> Self::Wide;
+    /// `w` rounded to the nearest value of `Self`.
+    fn narrow(w: &Self::Wide) -> Self;
+
     /// A short name of the type for reports: `f32`, `f64`, `mpfr:256`, ….
     fn type_name() -> String;
     /// Number of significand bits `p` (24 for `f32`, 53 for `f64`, `BITS` for MPFR).

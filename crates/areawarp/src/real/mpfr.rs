@@ -105,6 +105,13 @@ impl<const BITS: u32> Neg for Mpfr<BITS> {
 }
 
 impl<const BITS: u32> Real for Mpfr<BITS> {
+    type Wide = Self;
+    fn widen(&self) -> Self {
+        self.clone()
+    }
+    fn narrow(w: &Self) -> Self {
+        w.clone()
+    }
     fn type_name() -> String {
         format!("mpfr:{BITS}")
     }

@@ -10,6 +10,7 @@ mod sphere;
 mod spherical_rectangle;
 mod spherical_triangle;
 mod turns;
+mod wide;
 pub use concentric_disk::ConcentricDisk;
 pub use disk::{PolarDisk, PolarDiskRecipe};
 pub use hemisphere::{Hemisphere, HemisphereRecipe};

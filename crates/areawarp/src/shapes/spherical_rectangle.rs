@@ -24,12 +24,14 @@ use super::turns::clamp_unit;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
+use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use geometry::Geometry;
 use literal::Literal;
-use robust::Robust;
+use robust::{Cone, Robust};
+use std::sync::OnceLock;
 
 /// Which evaluation of the Ureña–Fajardo–King map a [`SphericalRectangle`]
 /// uses. Both compute the same map M(u, v); they differ only in arithmetic.
@@ -160,11 +162,13 @@ fn on_shape_tolerance<T: Real>() -> T {
 /// assert!((u - 0.5).abs() < 1e-15 && (v - 0.5).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
-pub struct SphericalRectangle<T> {
+pub struct SphericalRectangle<T: Real> {
     /// `e_y` as given (the geometry holds it squared up).
     ey_input: Vec3<T>,
     geometry: Geometry<T>,
     robust: Robust<T>,
+    /// The cone's faces for `outside_by`, computed on first use.
+    cone: OnceLock<Cone<T>>,
     literal: Option<Literal<T>>,
     variant: SphericalRectangleVariant,
     bits: u32,
@@ -230,20 +234,16 @@ impl<T: Real> SphericalRectangle<T> {
         bits: u32,
     ) -> Result<Self, WarpError> {
         let bits = bits.min(T::precision());
-        let geometry = Geometry::new(s, ex, ey.clone(), o, bits)?;
-        let robust = Robust::new(&geometry);
-        let omega = robust.solid_angle();
-        if !positive(&omega) || !omega.is_finite() {
-            return Err(WarpError::Degenerate {
-                what: "zero solid angle",
-            });
-        }
+        let geometry = wide_geometry(&s, &ex, &ey, &o, bits)?;
+        let robust = Robust::new(&geometry, None);
+        let (omega, inv_omega) = check_range(&geometry, &robust)?;
         let out = SphericalRectangle {
             ey_input: ey,
-            inv_omega: T::one() / &omega,
+            inv_omega,
             omega,
             geometry,
             robust,
+            cone: OnceLock::new(),
             literal: None,
             variant: SphericalRectangleVariant::Robust,
             bits,
@@ -290,6 +290,16 @@ impl<T: Real> SphericalRectangle<T> {
     /// The observer `o`.
     pub fn observer(&self) -> &Vec3<T> {
         &self.geometry.o
+    }
+
+    /// The parameters as given: `[s, e_x, e_y, o]` (`e_y` not squared up).
+    pub fn inputs(&self) -> [&Vec3<T>; 4] {
+        [
+            &self.geometry.s,
+            &self.geometry.ex,
+            &self.ey_input,
+            &self.geometry.o,
+        ]
     }
 
     /// The unit normal of the rectangle's plane on the observer's side.
@@ -363,23 +373,66 @@ impl<T: Real> SphericalRectangle<T> {
     }
 
     fn sample_robust(&self, u: &T, v: &T) -> LightSample<T> {
-        let g = &self.geometry;
-        let (xi, x) = self.robust.column_at(u);
-        let (eta, y) = self.robust.row_at(&x, v);
-        let point = g.point(&clamp01(&xi), &clamp01(&eta));
-        let direction = g.direction(&x, &y);
-        // cos θ_p = h/r in the local frame; pdf_area = cos³θ_p / (Ω h²).
-        let r = (x.square() + &y.square() + &g.h.square()).sqrt();
-        let c = g.h.clone() / &r;
-        let pdf_area = c.square() * &c * &self.inv_omega / &g.h_world.square();
-        LightSample {
-            point,
-            direction,
-            // The local frame is the world scaled by h/h_world.
-            distance: g.h_world.clone() / &c,
-            pdf: self.inv_omega.clone(),
-            pdf_area,
-        }
+        sample_with(&self.geometry, &self.robust, &self.inv_omega, u, v)
+    }
+
+    /// One sample of the rectangle with corner `s` and edges `ex`, `ey`
+    /// seen from `o` without building a [`SphericalRectangle`]: M(u, v) with
+    /// both densities by the robust map, bit for bit what
+    /// `SphericalRectangle::new(s, ex, ey, o)?.sample_light([u, v])` returns, at the
+    /// cost of the validation, Ω and the one anchor (`x₀` or `x₁`) the sample
+    /// needs (not the cone's faces of `outside_by`). What a renderer calls
+    /// per shading point.
+    ///
+    /// # Errors
+    /// As [`SphericalRectangle::new`].
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::SphericalRectangle;
+    /// use areawarp::{LightWarp, Vec3};
+    /// let (s, ex, ey, o) = (
+    ///     Vec3::new(-0.5f32, -0.5, 0.0),
+    ///     Vec3::new(1.0, 0.0, 0.0),
+    ///     Vec3::new(0.0, 1.0, 0.0),
+    ///     Vec3::new(0.0, 0.0, 1.0),
+    /// );
+    /// let once = SphericalRectangle::sample_once(&s, &ex, &ey, &o, &0.3, &0.7)?;
+    /// let r = SphericalRectangle::new(s, ex, ey, o)?;
+    /// assert_eq!(once, r.sample_light([0.3, 0.7]));
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn sample_once(
+        s: &Vec3<T>,
+        ex: &Vec3<T>,
+        ey: &Vec3<T>,
+        o: &Vec3<T>,
+        u: &T,
+        v: &T,
+    ) -> Result<LightSample<T>, WarpError> {
+        let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
+        let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
+        let robust = Robust::new(&geometry, Some(which));
+        let (_, inv_omega) = check_range(&geometry, &robust)?;
+        Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
+    }
+
+    /// The solid angle Ω of the rectangle with corner `s` and edges `ex`,
+    /// `ey` seen from `o`, without building a [`SphericalRectangle`]: equal
+    /// to its [`solid_angle`](SphericalRectangle::solid_angle) (the density
+    /// of its samples is `1/Ω`).
+    ///
+    /// # Errors
+    /// As [`SphericalRectangle::new`].
+    pub fn solid_angle_of(
+        s: &Vec3<T>,
+        ex: &Vec3<T>,
+        ey: &Vec3<T>,
+        o: &Vec3<T>,
+    ) -> Result<T, WarpError> {
+        let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
+        let robust = Robust::new(&geometry, Some(0));
+        Ok(check_range(&geometry, &robust)?.0)
     }
 
     /// The density in area on the rectangle at the point `p`:
@@ -425,15 +478,6 @@ impl<T: Real> SphericalRectangle<T> {
         self.point_outside_by(p) <= on_shape_tolerance::<T>() * &scale
     }
 
-    /// `(ξ, η) = (q·e_x/|e_x|², q·e_y/|e_y|²)` for `q = p − s`.
-    fn rectangle_coordinates(&self, q: &Vec3<T>) -> (T, T) {
-        let g = &self.geometry;
-        (
-            q.dot(&g.ex) / &g.ex.norm_squared(),
-            q.dot(&g.ey) / &g.ey.norm_squared(),
-        )
-    }
-
     /// `(u, v)` of a point `p` on the rectangle: `u = Ω([x₀, x_p])/Ω`,
     /// `v = (h_p − h₀)/(h₁ − h₀)`, both computed without cancellation (the
     /// same for both variants). `None` if `p` is not finite or farther than
@@ -457,26 +501,34 @@ impl<T: Real> SphericalRectangle<T> {
     }
 
     /// `(u, v)` of the point of the rectangle nearest to `p` (no check).
+    ///
+    /// The column and row `(x, y)` of `p` are measured from the observer
+    /// (not from the corner `s`, which may lie far away on an elongated
+    /// rectangle: their rounding errors are then relative to the distance
+    /// the direction's accuracy depends on); the offsets from the edges,
+    /// `x − x₀ = ξ|e_x|` and `x₁ − x = (1 − ξ)|e_x|` (likewise in y), from
+    /// `ξ = (p − s)·e_x/|e_x|²`, accurate relative to the rectangle's size
+    /// also when the observer is far away.
     fn point_uv(&self, p: &Vec3<T>) -> (T, T) {
         let g = &self.geometry;
-        let (xi, eta) = self.rectangle_coordinates(&p.sub(&g.s));
         let one = T::one();
-        let xi = xi.clamp(&T::zero(), &one);
-        let eta = eta.clamp(&T::zero(), &one);
+        let zero = T::zero();
+        let q = p.sub(&g.s);
+        let xi = (q.dot(&g.ex) / &g.ex.norm_squared()).clamp(&zero, &one);
+        let eta = (q.dot(&g.ey) / &g.ey.norm_squared()).clamp(&zero, &one);
+        let (x, y) = g.local_point(p);
+        let [x, _, _, y, _, _] = self.robust.offsets(x, y);
         let (ax, bx) = (xi.clone() * &g.lx, (one.clone() - &xi) * &g.lx);
         let (ay, by) = (eta.clone() * &g.ly, (one - &eta) * &g.ly);
-        let x = if ax <= bx {
-            g.x0.clone() + &ax
-        } else {
-            g.x0.clone() + &g.lx - &bx
-        };
-        let y = if ay <= by {
-            g.y0.clone() + &ay
-        } else {
-            g.y0.clone() + &g.ly - &by
-        };
         let (u, v) = self.robust.uv_of(&x, &ax, &bx, &y, &ay, &by);
         (clamp01(&u), clamp01(&v))
+    }
+
+    /// `(u, v)` of the direction `d` without the on-shape test of
+    /// [`Warp::inverse`] (the caller knows `d` is on the rectangle, e.g. to
+    /// its own tolerance).
+    pub(crate) fn inverse_unchecked(&self, d: &Vec3<T>) -> Option<(T, T)> {
+        self.direction_uv(d)
     }
 
     /// `(u, v)` of the direction `d` (no check beyond finiteness).
@@ -490,10 +542,117 @@ impl<T: Real> SphericalRectangle<T> {
         Some((clamp01(&u), clamp01(&v)))
     }
 
+    /// The cone's faces (computed on first use).
+    fn cone(&self) -> &Cone<T> {
+        self.cone.get_or_init(|| Cone::new(&self.robust))
+    }
+
     /// `true` if the direction `d` lies on the spherical rectangle within
     /// `2^(−p/2)` ([`Warp::outside_by`]).
     pub fn contains(&self, d: &Vec3<T>) -> bool {
         self.outside_by(d) <= on_shape_tolerance::<T>()
+    }
+}
+
+/// Validates the rectangle and builds its frame in [`Real::Wide`] (every
+/// decision, the frame and the local coordinates in the wide type), rounded
+/// to `T`.
+fn wide_geometry<T: Real>(
+    s: &Vec3<T>,
+    ex: &Vec3<T>,
+    ey: &Vec3<T>,
+    o: &Vec3<T>,
+    bits: u32,
+) -> Result<Geometry<T>, WarpError> {
+    let wide = Geometry::new(widen3(s), widen3(ex), widen3(ey), widen3(o), bits)?;
+    Ok(wide.narrow::<T>())
+}
+
+/// The reasons `T` cannot serve a valid rectangle.
+mod range {
+    use crate::error::WarpError;
+    pub const GRAZING: WarpError = WarpError::Unrepresentable {
+        what: "observer so close to the rectangle's plane that h² underflows the scalar type",
+    };
+    pub const OMEGA: WarpError = WarpError::Unrepresentable {
+        what: "solid angle (or its reciprocal) outside the scalar type's range",
+    };
+    pub const AREA_PDF: WarpError = WarpError::Unrepresentable {
+        what: "density in area measure outside the scalar type's range",
+    };
+}
+
+/// `(Ω, 1/Ω)` once `T` is known to serve the rectangle: `h²` (local, the
+/// largest local length in `[1, 2)`) and Ω above `tiny/u` (`tiny ≈` the
+/// smallest normal number, `4/max`), so that the map's products of small
+/// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
+/// non-zero at the nearest and farthest points of the rectangle.
+fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpError> {
+    let tiny = T::from_i64(4) / &T::max_value();
+    let floor = tiny / &T::unit_roundoff();
+    if !(g.h.square() >= floor) {
+        return Err(range::GRAZING);
+    }
+    let omega = r.solid_angle();
+    let inv_omega = T::one() / &omega;
+    if !(omega >= floor) || !omega.is_finite() || !inv_omega.is_finite() {
+        return Err(if positive(&omega) {
+            range::OMEGA
+        } else {
+            WarpError::Degenerate {
+                what: "zero solid angle",
+            }
+        });
+    }
+    // h/(Ω r³) at the nearest and the farthest point, in the wide type:
+    // world lengths are the local ones times 2^exp.
+    let w = |x: &T| x.widen();
+    let zero = <T::Wide as Real>::zero();
+    let (x0, y0, h) = (w(&g.x0), w(&g.y0), w(&g.h));
+    let (x1, y1) = (x0.clone() + &w(&g.lx), y0.clone() + &w(&g.ly));
+    let near_x = zero.clamp(&x0, &x1);
+    let near_y = zero.clamp(&y0, &y1);
+    let far_x = x0.abs().max(&x1.abs());
+    let far_y = y0.abs().max(&y1.abs());
+    let scale = <T::Wide as Real>::exp2i(-2 * g.exp);
+    let density = |x: &T::Wide, y: &T::Wide| {
+        let r = (x.square() + &y.square() + &h.square()).sqrt();
+        T::narrow(&(h.clone() / &(w(&omega) * &r * &r * &r) * &scale))
+    };
+    let (p_max, p_min) = (density(&near_x, &near_y), density(&far_x, &far_y));
+    if !p_max.is_finite() || !positive(&p_min) {
+        return Err(range::AREA_PDF);
+    }
+    Ok((omega, inv_omega))
+}
+
+/// M(u, v) with both densities, by the robust map.
+fn sample_with<T: Real>(
+    g: &Geometry<T>,
+    robust: &Robust<T>,
+    inv_omega: &T,
+    u: &T,
+    v: &T,
+) -> LightSample<T> {
+    let (u, v) = (clamp_unit(u), clamp_unit(v));
+    let (xi, x) = robust.column_at(&u);
+    let (eta, y) = robust.row_at(&x, &v);
+    let point = g.point(&clamp01(&xi), &clamp01(&eta));
+    let direction = g.direction(&x, &y);
+    // pdf_area = cos θ_p / (Ω r²) with cos θ_p = h/r and the world distance
+    // r·2^exp, as ((cos θ_p/Ω)·t)·t, t = 2^−exp/r: no spurious overflow or
+    // underflow for the densities `check_range` admits.
+    let r = (x.square() + &y.square() + &g.h.square()).sqrt();
+    let c = g.h.clone() / &r;
+    let t = T::exp2i(-g.exp) / &r;
+    let pdf_area = c * inv_omega * &t * &t;
+    LightSample {
+        point,
+        direction,
+        // The world is the local frame scaled by 2^exp (exactly).
+        distance: r * &T::exp2i(g.exp),
+        pdf: inv_omega.clone(),
+        pdf_area,
     }
 }
 
@@ -543,7 +702,7 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
             return T::max_value();
         };
         let radial = (d.norm() - &T::one()).abs();
-        radial + &self.robust.outside_local(&a, &b, &c)
+        radial + &self.cone().outside_local(&a, &b, &c)
     }
 }
 

@@ -9,9 +9,11 @@
 //! [`Robust`](SphericalTriangleVariant::Robust), reformulated so that every
 //! step is as accurate as the data allow.
 
+mod build;
 mod ladder;
 mod literal;
 mod recipe;
+mod robust;
 #[cfg(test)]
 mod tests;
 
@@ -20,10 +22,14 @@ pub use recipe::SphericalTriangleRecipe;
 
 use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::turns::clamp_unit;
+use crate::shapes::wide::{narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
+use build::{Anchor, Core};
 use literal::Literal;
+use std::sync::{Arc, OnceLock};
 
 /// Which evaluation of Arvo's spherical-triangle map a [`SphericalTriangle`]
 /// uses. Both compute the same map ψ(u, v); they differ only in arithmetic.
@@ -75,124 +81,14 @@ impl core::str::FromStr for SphericalTriangleVariant {
     }
 }
 
-/// `x` clamped to `[0, 1]`, NaN mapped to 0.
-fn clamp01<T: Real>(x: &T) -> T {
-    x.clamp(&T::zero(), &T::one())
-}
-
 /// `x` clamped to `[0, 1]`, NaN kept (for values that report failure).
 fn clamp_keep_nan<T: Real>(x: &T) -> T {
-    if x.is_nan() { x.clone() } else { clamp01(x) }
+    clamp_unit(x)
 }
 
 /// `x > 0`: `false` for zero, negative values and NaN.
 fn positive<T: Real>(x: &T) -> bool {
     *x > T::zero()
-}
-
-/// `|v|²`.
-fn norm2<T: Real>(v: &Vec3<T>) -> T {
-    v.dot(v)
-}
-
-/// `v / |v|` computed as `w / |w|` with `w = v / max|v_i|`: free of overflow
-/// and underflow for any finite non-zero `v`; `None` for the zero vector.
-fn unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let m = v.max_abs();
-    if !positive(&m) || !m.is_finite() {
-        return None;
-    }
-    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
-    let n = norm2(&w).sqrt();
-    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
-}
-
-/// The unit tangent `[y|x]` at the unit vector `x` pointing along the great
-/// arc towards `y`, and `|y − (x·y)x| = sin∠(x, y)`.
-///
-/// `y − (x·y)x` cancels when `y ≈ ±x`; it is computed as
-/// `(y − x) + (|y − x|²/2)·x` when `x·y ≥ 0` and as
-/// `(y + x) − (|y + x|²/2)·x` otherwise (identities for unit vectors, since
-/// `1 − x·y = |y − x|²/2` and `1 + x·y = |y + x|²/2`): the differences are
-/// exact or nearly so, and the result has full relative accuracy.
-fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
-    let two = T::from_i64(2);
-    let t = if x.dot(y) >= T::zero() {
-        let e = y.sub(x);
-        e.add(&x.scale(&(norm2(&e) / &two)))
-    } else {
-        let e = y.add(x);
-        e.sub(&x.scale(&(norm2(&e) / &two)))
-    };
-    let len = norm2(&t).sqrt();
-    if !positive(&len) || !len.is_finite() {
-        return None;
-    }
-    Some((t.scale(&(T::one() / &len)), len))
-}
-
-/// The constants of the robust map measured from one end V of the arc AC
-/// (V = A for u ≤ 1/2, V = C for u > 1/2, W the other end), all divided by
-/// `d = sin c sin α = |det(A, B, C)| / sin b` (the same for both ends) so
-/// that they stay O(1) for tiny triangles.
-#[derive(Clone, Debug)]
-struct Anchor<T> {
-    /// V.
-    vertex: Vec3<T>,
-    /// `[W|V]`: the unit tangent at V along the arc towards W.
-    along: Vec3<T>,
-    /// `(1 + cos∠VB)/d`.
-    k1_d: T,
-    /// `sin∠VB · cos(angle at V)/d`.
-    k_d: T,
-    /// `1/sin²(∠VB/2) = 4/|V − B|²`.
-    inv_s2: T,
-    /// V − B and V + B.
-    v_minus_b: Vec3<T>,
-    v_plus_b: Vec3<T>,
-    /// `[V|B]`: the unit tangent at B towards V.
-    t_b: Vec3<T>,
-    /// The unit tangent at B perpendicular to `t_b`, towards W.
-    n_b: Vec3<T>,
-}
-
-impl<T: Real> Anchor<T> {
-    /// The constants for the end `vertex` of the arc, the other end being
-    /// `other`; `sign` is the sign of det(A, B, C) as ±1 for V = A (its
-    /// opposite for V = C), `d` the common |det|/sin b.
-    fn new(
-        vertex: &Vec3<T>,
-        other: &Vec3<T>,
-        b: &Vec3<T>,
-        d: &T,
-        sign: &T,
-    ) -> Result<Self, WarpError> {
-        let degenerate = WarpError::Degenerate {
-            what: "coincident or antipodal vertices",
-        };
-        let two = T::from_i64(2);
-        let (along, _) = tangent(vertex, other).ok_or(degenerate.clone())?;
-        let (t_b, _) = tangent(b, vertex).ok_or(degenerate.clone())?;
-        let v_minus_b = vertex.sub(b);
-        let v_plus_b = vertex.add(b);
-        let s2 = norm2(&v_minus_b) / T::from_i64(4);
-        // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
-        let k = v_minus_b.neg().dot(&along);
-        let k1 = norm2(&v_plus_b) / &two;
-        // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C).
-        let n_b = unit(&t_b.cross(b).scale(sign)).ok_or(degenerate)?;
-        Ok(Anchor {
-            vertex: vertex.clone(),
-            along,
-            k1_d: k1 / d,
-            k_d: k / d,
-            inv_s2: T::one() / &s2,
-            v_minus_b,
-            v_plus_b,
-            t_b,
-            n_b,
-        })
-    }
 }
 
 /// Uniform directions in a spherical triangle: Arvo's area-preserving map
@@ -245,15 +141,42 @@ impl<T: Real> Anchor<T> {
 /// # Non-degeneracy
 /// [`SphericalTriangle::new`] rejects vertices that are not finite or zero,
 /// coincident directions, and triangles with
-/// `|det(A, B, C)| ≤ 256·u·ℓ₁ℓ₂` (u = [`Real::unit_roundoff`], ℓ₁ ≤ ℓ₂ the two
-/// shortest chords |A − B|, |B − C|, |C − A|). Since
+/// `|det(A, B, C)| ≤ 256·u·ℓ₁ℓ₂` (u the unit roundoff of [`Real::Wide`],
+/// ℓ₁ ≤ ℓ₂ the two shortest chords |A − B|, |B − C|, |C − A|). Since
 /// `det(A, B, C) = ℓ₁ℓ₂·sin θ·dist(O, plane ABC)` with θ the largest angle of
 /// the planar triangle ABC, the criterion is scale-free: it rejects vertices
 /// collinear on the sphere's chord triangle (θ → 0 or π) and vertices on
 /// one great circle (plane through the origin), in both cases only when the
 /// orientation of the triangle is lost in the rounding of the determinant.
+/// It also rejects two vertices X, Y that are nearly antipodal,
+/// `|X + Y| ≤ 64·2^(−p/2)` (`≈ 5.8e-7` in `f64`): the great arc between them
+/// is then determined (by `X × Y`, of length `≈ |X + Y|`) only to
+/// `u/|X + Y|`, worse than the on-shape tolerance `2^(−p/2)` of the inverse.
 /// Tiny triangles (1e-12 sr in `f64`), slivers and nearly hemispherical
 /// triangles (2π − 1e-7 sr) are accepted.
+///
+/// # Precision
+/// Every decision and every constant of the constructor is computed in
+/// [`Real::Wide`] (`f64` for `f32`) from the vertices as given, and the
+/// constants are rounded to `T`: an `f32` triangle is accepted exactly when
+/// the `f64` constructor accepts the same values, except when `f32` cannot
+/// hold its solid angle, density or a constant
+/// ([`WarpError::Unrepresentable`]). The per-sample path runs in `T`.
+///
+/// # Inputs outside the unit square
+/// `u`, `v` outside `[0, 1]` are clamped to it; a NaN `u` or `v` gives a
+/// NaN point (it is not a point of `[0, 1]²`, and the map does not make a
+/// boundary point up for it). For `(u, v) ∈ [0, 1]²` the point is finite and
+/// on the triangle.
+///
+/// # Cost
+/// The constructor computes the validation, Ω and the robust map's constants
+/// (two anchors of three vectors and three scalars each); the literal
+/// variant's constants only for that variant, and the edge-plane normals of
+/// [`Warp::outside_by`] and [`Warp::inverse`] on their first use. Sampling
+/// one direction of a triangle used once (a renderer's shading point):
+/// [`SphericalTriangle::sample_once`], which builds only the anchor the
+/// sample needs; its solid angle alone: [`SphericalTriangle::solid_angle_of`].
 ///
 /// # Example
 /// ```
@@ -273,10 +196,18 @@ impl<T: Real> Anchor<T> {
 /// let [u, v] = t.inverse(&p).unwrap();
 /// assert!((u - 0.3).abs() < 1e-14 && (v - 0.7).abs() < 1e-14);
 /// assert_eq!(t.map(&0.5, &0.0), Vec3::new(0.0, 1.0, 0.0)); // v = 0 is B
+/// assert!(t.map(&f64::NAN, &0.5).x.is_nan());
 /// ```
 #[derive(Clone, Debug)]
-pub struct SphericalTriangle<T> {
+pub struct SphericalTriangle<T: Real> {
     variant: SphericalTriangleVariant,
+    /// The vertex directions as given (what [`WarpFamily::at`] rebuilds
+    /// from): the planar triangle behind the directions, relative to the
+    /// observer, for [`LightWarp::sample_light`].
+    input: [Vec3<T>; 3],
+    /// The observer given to [`SphericalTriangle::from_points`] (the origin
+    /// for [`SphericalTriangle::new`]).
+    observer: Vec3<T>,
     /// Unit vertices.
     a: Vec3<T>,
     b: Vec3<T>,
@@ -289,37 +220,50 @@ pub struct SphericalTriangle<T> {
     inv_omega: T,
     /// sin c · sin α = sin a · sin γ = |det(A, B, C)| / sin b.
     d: T,
-    /// [C|A], 1 + cos c, sin c · cos α and A − B (inverse, recipe).
+    /// [C|A], 1 + cos c, sin c · cos α, A − B and A + B (inverse, recipe).
     c_perp: Vec3<T>,
     k1a: T,
     ka: T,
     a_minus_b: Vec3<T>,
+    a_plus_b: Vec3<T>,
     /// The map's constants measured from A (u ≤ 1/2) and from C (u > 1/2).
-    from_a: Anchor<T>,
-    from_c: Anchor<T>,
+    anchors: [Anchor<T>; 2],
     /// sin b and 1 + cos b (arc AC), for the inverse.
     sin_b: T,
     one_plus_cos_b: T,
-    /// Inward unit normals of the edge planes AB, BC, CA.
-    n_ab: Vec3<T>,
-    n_bc: Vec3<T>,
-    n_ca: Vec3<T>,
+    /// Inward unit normals of the edge planes AB, BC, CA, computed on the
+    /// first call of `outside_by`/`inverse`.
+    normals: OnceLock<[Vec3<T>; 3]>,
     /// `true` if det(A, B, C) > 0 (counter-clockwise seen from outside).
     positive: bool,
-    /// The published algorithm's constants.
-    literal: Literal<T>,
-    /// The planar triangle behind the directions, for
-    /// [`LightWarp::sample_light`].
-    emitter: Emitter<T>,
+    /// The published algorithm's constants (literal variant only).
+    literal: Option<Literal<T>>,
+    /// The same triangle in [`Real::Wide`], for the inverse of a narrower
+    /// `T` (built on its first use).
+    wide: OnceLock<Arc<dyn WideInverse<T>>>,
 }
 
-/// The planar triangle a [`SphericalTriangle`] is the image of: its vertices
-/// relative to the observer (the vectors given to the constructor, not
-/// normalized) and the observer.
-#[derive(Clone, Debug)]
-struct Emitter<T> {
-    observer: Vec3<T>,
-    vertices: [Vec3<T>; 3],
+/// The inverse of a triangle evaluated in the wide type (type-erased, so
+/// that `SphericalTriangle<T>` does not contain `SphericalTriangle<T::Wide>`).
+trait WideInverse<T>: Send + Sync + core::fmt::Debug {
+    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)>;
+}
+
+/// A triangle in `T::Wide` answering for `T`.
+#[derive(Debug)]
+struct WideTriangle<T: Real>(SphericalTriangle<T::Wide>);
+
+impl<T: Real> WideInverse<T> for WideTriangle<T> {
+    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        let q = unit_vector(&widen3(p))?;
+        let (u, v) = self.0.inverse_robust(&self.0.onto_triangle(&q))?;
+        Some((T::narrow(&u), T::narrow(&v)))
+    }
+}
+
+/// The reason a triangle is rejected.
+fn out_of_range() -> WarpError {
+    build::reject::OUT_OF_RANGE
 }
 
 impl<T: Real> SphericalTriangle<T> {
@@ -331,8 +275,11 @@ impl<T: Real> SphericalTriangle<T> {
     /// - [`WarpError::NonFinite`] if a coordinate is NaN or infinite.
     /// - [`WarpError::Degenerate`] for a zero vertex vector, coincident
     ///   directions, vertices on one great circle or collinear on their chord
-    ///   triangle (see the type's docs), or a solid angle whose reciprocal
-    ///   overflows.
+    ///   triangle, two nearly antipodal vertices (see the type's docs), or a
+    ///   solid angle that underflows [`Real::Wide`].
+    /// - [`WarpError::Unrepresentable`] if the solid angle, its reciprocal or
+    ///   a constant of the map is outside `T`'s range (the same triangle is
+    ///   accepted in [`Real::Wide`]).
     pub fn new(a: Vec3<T>, b: Vec3<T>, c: Vec3<T>) -> Result<Self, WarpError> {
         Self::new_with(a, b, c, SphericalTriangleVariant::Robust)
     }
@@ -347,103 +294,54 @@ impl<T: Real> SphericalTriangle<T> {
         c: Vec3<T>,
         variant: SphericalTriangleVariant,
     ) -> Result<Self, WarpError> {
-        for (v, what) in [(&a, "vertex A"), (&b, "vertex B"), (&c, "vertex C")] {
-            if !v.is_finite() {
-                return Err(WarpError::NonFinite { what });
-            }
-        }
-        let zero_vertex = WarpError::Degenerate {
-            what: "zero vertex direction",
-        };
-        let emitter = Emitter {
-            observer: Vec3::zero(),
-            vertices: [a.clone(), b.clone(), c.clone()],
-        };
-        let a = unit(&a).ok_or(zero_vertex.clone())?;
-        let b = unit(&b).ok_or(zero_vertex.clone())?;
-        let c = unit(&c).ok_or(zero_vertex)?;
-        let zero = T::zero();
-        let one = T::one();
-        let two = T::from_i64(2);
+        let core = build::core_of(&a, &b, &c)?;
+        Self::from_core(&core, [a, b, c], variant)
+    }
 
-        let ab = b.sub(&a);
-        let bc = c.sub(&b);
-        let ca = a.sub(&c);
-        let (l_ab, l_bc, l_ca) = (norm2(&ab).sqrt(), norm2(&bc).sqrt(), norm2(&ca).sqrt());
-        if l_ab == zero || l_bc == zero || l_ca == zero {
-            return Err(WarpError::Degenerate {
-                what: "coincident vertices",
-            });
+    /// The triangle from its validated wide core.
+    fn from_core(
+        core: &Core<T::Wide>,
+        input: [Vec3<T>; 3],
+        variant: SphericalTriangleVariant,
+    ) -> Result<Self, WarpError> {
+        let (omega, inv_omega) = build::omega_in::<T>(core)?;
+        let two = <T::Wide as Real>::from_i64(2);
+        let d = T::narrow(&core.d);
+        if !positive(&d) {
+            return Err(out_of_range());
         }
-        // det(A, B, C) = V·(e₁ × e₂) from the vertex V opposite the longest
-        // chord (e₁, e₂ the two shortest chords): the cross product of short
-        // difference vectors keeps relative accuracy for small triangles.
-        let (det, l1, l2) = if l_bc >= l_ab && l_bc >= l_ca {
-            (a.dot(&ab.cross(&ca.neg())), &l_ab, &l_ca)
-        } else if l_ca >= l_ab {
-            (b.dot(&bc.cross(&ab.neg())), &l_ab, &l_bc)
-        } else {
-            (c.dot(&ca.cross(&bc.neg())), &l_bc, &l_ca)
+        let anchors = [
+            core.anchor(true)?.narrow::<T>().ok_or_else(out_of_range)?,
+            core.anchor(false)?.narrow::<T>().ok_or_else(out_of_range)?,
+        ];
+        let a = narrow3::<T>(&core.a);
+        let b = narrow3::<T>(&core.b);
+        let c = narrow3::<T>(&core.c);
+        let literal = match variant {
+            SphericalTriangleVariant::Literal => Some(Literal::new(&a, &b, &c)),
+            SphericalTriangleVariant::Robust => None,
         };
-        let threshold = T::from_i64(256) * &T::unit_roundoff() * l1 * l2;
-        if det.is_nan() || det.abs() <= threshold {
-            return Err(WarpError::Degenerate {
-                what: "vertices on one great circle (or collinear)",
-            });
-        }
-        let ccw = det > zero;
-        let abs_det = det.abs();
-
-        let on_arc = WarpError::Degenerate {
-            what: "coincident or antipodal vertices",
-        };
-        let (c_perp, sin_b) = tangent(&a, &c).ok_or(on_arc)?;
-        let d = abs_det.clone() / &sin_b;
-        let a_plus_b = a.add(&b);
-        let a_plus_c = a.add(&c);
-        let k1a = norm2(&a_plus_b) / &two;
-        let ka = ab.dot(&c_perp);
-        // 1 + A·B + B·C + C·A = (1 + A·B) + C·(A + B).
-        let den = k1a.clone() + &c.dot(&a_plus_b);
-        let omega = abs_det.atan2(&den) * &two;
-        let inv_omega = one.clone() / &omega;
-        if !positive(&omega) || !inv_omega.is_finite() || !positive(&d) || !d.is_finite() {
-            return Err(WarpError::Degenerate {
-                what: "solid angle underflows",
-            });
-        }
-        let sign = if ccw { one.clone() } else { -one.clone() };
-        let inward = |v: &Vec3<T>, e: &Vec3<T>| unit(&v.cross(e).scale(&sign));
-        let normals_degenerate = WarpError::Degenerate {
-            what: "edge plane undefined",
-        };
-        let n_ab = inward(&a, &ab).ok_or(normals_degenerate.clone())?;
-        let n_bc = inward(&b, &bc).ok_or(normals_degenerate.clone())?;
-        let n_ca = inward(&c, &ca).ok_or(normals_degenerate)?;
-        let from_a = Anchor::new(&a, &c, &b, &d, &sign)?;
-        let from_c = Anchor::new(&c, &a, &b, &d, &-sign.clone())?;
-        let literal = Literal::new(&a, &b, &c);
         Ok(SphericalTriangle {
             variant,
-            b_norm2: norm2(&b),
-            half_omega: omega.clone() / &two,
+            input,
+            observer: Vec3::zero(),
+            b_norm2: build::norm2(&b),
+            half_omega: T::narrow(&(core.omega.clone() / &two)),
             omega,
             inv_omega,
             d,
-            k1a,
-            ka,
-            a_minus_b: ab.neg(),
-            c_perp,
-            from_a,
-            from_c,
-            one_plus_cos_b: norm2(&a_plus_c) / &two,
-            sin_b,
-            n_ab,
-            n_bc,
-            n_ca,
-            positive: ccw,
+            k1a: T::narrow(&core.k1a),
+            ka: T::narrow(&core.ka),
+            a_minus_b: narrow3::<T>(&core.ab.neg()),
+            a_plus_b: narrow3::<T>(&core.a.add(&core.b)),
+            c_perp: narrow3::<T>(&core.c_perp),
+            anchors,
+            one_plus_cos_b: T::narrow(&(build::norm2(&core.a.add(&core.c)) / &two)),
+            sin_b: T::narrow(&core.sin_b),
+            normals: OnceLock::new(),
+            wide: OnceLock::new(),
+            positive: core.ccw,
             literal,
-            emitter,
             a,
             b,
             c,
@@ -451,7 +349,9 @@ impl<T: Real> SphericalTriangle<T> {
     }
 
     /// The spherical triangle subtended by the points `p0`, `p1`, `p2` as
-    /// seen from `observer`: vertex directions `p_i − observer`.
+    /// seen from `observer`: vertex directions `p_i − observer`, computed in
+    /// [`Real::Wide`] (exactly, for `f32` points of similar magnitude); the
+    /// directions rounded to `T` are what [`WarpFamily::at`] rebuilds from.
     ///
     /// # Errors
     /// As [`SphericalTriangle::new`]; a point at the observer gives
@@ -463,18 +363,9 @@ impl<T: Real> SphericalTriangle<T> {
         p2: Vec3<T>,
         observer: Vec3<T>,
     ) -> Result<Self, WarpError> {
-        for (v, what) in [
-            (&p0, "point 0"),
-            (&p1, "point 1"),
-            (&p2, "point 2"),
-            (&observer, "observer"),
-        ] {
-            if !v.is_finite() {
-                return Err(WarpError::NonFinite { what });
-            }
-        }
-        let mut t = Self::new(p0.sub(&observer), p1.sub(&observer), p2.sub(&observer))?;
-        t.emitter.observer = observer;
+        let (d, core) = Self::from_points_core(&p0, &p1, &p2, &observer)?;
+        let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust)?;
+        t.observer = observer;
         Ok(t)
     }
 
@@ -484,7 +375,7 @@ impl<T: Real> SphericalTriangle<T> {
     /// constructor: `b_A ∝ d·(B × C)`, `b_B ∝ d·(C × A)`, `b_C ∝ d·(A × B)`
     /// (signed volumes), clamped to the triangle.
     pub fn barycentrics(&self, direction: &Vec3<T>) -> [T; 3] {
-        let [va, vb, vc] = &self.emitter.vertices;
+        let [va, vb, vc] = &self.input;
         let zero = T::zero();
         let sign = if self.positive { T::one() } else { -T::one() };
         let w = [
@@ -500,9 +391,123 @@ impl<T: Real> SphericalTriangle<T> {
         w.map(|x| x / &sum)
     }
 
+    /// The directions `p_i − observer` rounded to `T`, and the core of the
+    /// triangle of the wide directions.
+    fn from_points_core(
+        p0: &Vec3<T>,
+        p1: &Vec3<T>,
+        p2: &Vec3<T>,
+        observer: &Vec3<T>,
+    ) -> Result<([Vec3<T>; 3], Core<T::Wide>), WarpError> {
+        for (v, what) in [
+            (p0, "point 0"),
+            (p1, "point 1"),
+            (p2, "point 2"),
+            (observer, "observer"),
+        ] {
+            if !v.is_finite() {
+                return Err(WarpError::NonFinite { what });
+            }
+        }
+        let o = widen3(observer);
+        let d = [widen3(p0).sub(&o), widen3(p1).sub(&o), widen3(p2).sub(&o)];
+        for (v, what) in d.iter().zip(["vertex A", "vertex B", "vertex C"]) {
+            if !v.is_finite() {
+                return Err(WarpError::NonFinite { what });
+            }
+        }
+        let core = Core::new(&d[0], &d[1], &d[2])?;
+        Ok((d.map(|v| narrow3::<T>(&v)), core))
+    }
+
+    /// One sample of the triangle with vertex directions `a`, `b`, `c`
+    /// without building a [`SphericalTriangle`]: `(ψ(u, v), 1/Ω)` by the
+    /// robust map, bit for bit what
+    /// `SphericalTriangle::new(a, b, c)?.map_with_pdf(u, v)` returns, at the
+    /// cost of the validation, Ω and the one anchor (A or C) the sample
+    /// needs. What a renderer calls per shading point.
+    ///
+    /// # Errors
+    /// As [`SphericalTriangle::new`].
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::SphericalTriangle;
+    /// use areawarp::{Vec3, Warp};
+    /// let (a, b, c) = (Vec3::new(1.0f32, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
+    /// let (p, pdf) = SphericalTriangle::sample_once(&a, &b, &c, &0.3, &0.7)?;
+    /// let t = SphericalTriangle::new(a, b, c)?;
+    /// assert_eq!((p, pdf), t.map_with_pdf(&0.3, &0.7));
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    pub fn sample_once(
+        a: &Vec3<T>,
+        b: &Vec3<T>,
+        c: &Vec3<T>,
+        u: &T,
+        v: &T,
+    ) -> Result<(Vec3<T>, T), WarpError> {
+        let core = build::core_of(a, b, c)?;
+        Self::sample_core(&core, u, v)
+    }
+
+    /// [`SphericalTriangle::sample_once`] for the triangle the points `p0`,
+    /// `p1`, `p2` subtend from `observer` (as
+    /// [`SphericalTriangle::from_points`]).
+    ///
+    /// # Errors
+    /// As [`SphericalTriangle::from_points`].
+    pub fn sample_once_from_points(
+        p0: &Vec3<T>,
+        p1: &Vec3<T>,
+        p2: &Vec3<T>,
+        observer: &Vec3<T>,
+        u: &T,
+        v: &T,
+    ) -> Result<(Vec3<T>, T), WarpError> {
+        let (_, core) = Self::from_points_core(p0, p1, p2, observer)?;
+        Self::sample_core(&core, u, v)
+    }
+
+    fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
+        let (_, inv_omega) = build::omega_in::<T>(core)?;
+        if !positive(&T::narrow(&core.d)) {
+            return Err(out_of_range());
+        }
+        let two = <T::Wide as Real>::from_i64(2);
+        let half_omega = T::narrow(&(core.omega.clone() / &two));
+        let anchor = core
+            .anchor(robust::uses_anchor_a(&clamp_unit(u)))?
+            .narrow::<T>()
+            .ok_or_else(out_of_range)?;
+        let b = narrow3::<T>(&core.b);
+        let b_norm2 = build::norm2(&b);
+        Ok((
+            robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v),
+            inv_omega,
+        ))
+    }
+
+    /// The solid angle Ω of the triangle with vertex directions `a`, `b`,
+    /// `c` (Van Oosterom–Strackee, computed in [`Real::Wide`]) without
+    /// building a [`SphericalTriangle`]: equal to its
+    /// [`solid_angle`](SphericalTriangle::solid_angle). The density of its
+    /// samples is `1/Ω`.
+    ///
+    /// # Errors
+    /// As [`SphericalTriangle::new`], except that the range of the map's
+    /// per-sample constants is not checked.
+    pub fn solid_angle_of(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> Result<T, WarpError> {
+        let core = build::core_of(a, b, c)?;
+        Ok(build::omega_in::<T>(&core)?.0)
+    }
+
     /// The same triangle evaluated with `variant`.
     pub fn with_variant(mut self, variant: SphericalTriangleVariant) -> Self {
         self.variant = variant;
+        if variant == SphericalTriangleVariant::Literal && self.literal.is_none() {
+            self.literal = Some(Literal::new(&self.a, &self.b, &self.c));
+        }
         self
     }
 
@@ -524,6 +529,13 @@ impl<T: Real> SphericalTriangle<T> {
         &self.c
     }
 
+    /// The vertex directions as given to the constructor (`p_i − observer`
+    /// for [`SphericalTriangle::from_points`]), not normalized: the
+    /// parameters [`WarpFamily::at`] rebuilds the triangle from.
+    pub fn vertex_inputs(&self) -> &[Vec3<T>; 3] {
+        &self.input
+    }
+
     /// The solid angle Ω (steradians), by Van Oosterom–Strackee:
     /// `Ω = 2·atan2(|det(A, B, C)|, 1 + A·B + B·C + C·A)`, accurate to a few
     /// units of roundoff relative for every accepted triangle. The density of
@@ -538,7 +550,10 @@ impl<T: Real> SphericalTriangle<T> {
     /// published algorithm samples with. Loses all accuracy for small
     /// triangles; for comparison only.
     pub fn girard_solid_angle(&self) -> T {
-        self.literal.area.clone()
+        match &self.literal {
+            Some(l) => l.area.clone(),
+            None => literal::girard(&self.a, &self.b, &self.c),
+        }
     }
 
     /// `true` if `det(A, B, C) > 0` (the vertices run counter-clockwise seen
@@ -554,184 +569,46 @@ impl<T: Real> SphericalTriangle<T> {
 
     /// ψ(u, v) by the [`Robust`](SphericalTriangleVariant::Robust)
     /// evaluation, whatever the triangle's variant. `u`, `v` are clamped to
-    /// `[0, 1]` (NaN counts as 0).
+    /// `[0, 1]`; a NaN `u` or `v` gives a NaN point.
     pub fn map_robust(&self, u: &T, v: &T) -> Vec3<T> {
-        let u = clamp01(u);
-        let v = clamp01(v);
-        let one = T::one();
-        let two = T::from_i64(2);
-        let half = T::from_ratio(1, 2);
-        let (anchor, h) = if u <= half {
-            (&self.from_a, u * &self.half_omega)
-        } else {
-            (&self.from_c, (one.clone() - &u) * &self.half_omega)
-        };
-        let (sh, ch) = h.sin_cos();
-        // Step 1 (V = anchor vertex, c = ∠VB, α = angle at V, d, k as in the
-        // type's docs): tan(b_s/2) = n/m with n = (1 + cos c) sin h / d and
-        // m = cos h − (k/d) sin h = sin(α − h)/sin α (eq. T divided by d).
-        // The angle β_s at B between the arcs B V and B C_s (eq. B):
-        // (sin β_s, cos β_s) ∝ (nb, cb) = (sin h·m, 1 − sin h (k cos h + d sin h)/d)/sin²(c/2).
-        let n = anchor.k1_d.clone() * &sh;
-        let m = ch.clone() - &(anchor.k_d.clone() * &sh);
-        let nb = sh.clone() * &m * &anchor.inv_s2;
-        let cb = one.clone() - &(sh.clone() * &(anchor.k_d.clone() * &ch + &sh) * &anchor.inv_s2);
-        // g = 2n/(n² + m²) = sin b_s / m.
-        let g = (n.clone() + &n) / &(n.square() + &m.square());
-        let nd2 = nb.square() + &cb.square();
-        // Independent of g: the two divisions overlap.
-        let inv_nd2 = one.clone() / &nd2;
-        // C_s − V = sin b_s·[W|V] − (1 − cos b_s)·V; D = C_s − B.
-        let delta = anchor
-            .along
-            .scale(&(g.clone() * &m))
-            .sub(&anchor.vertex.scale(&(g * &n)));
-        let d_vec = delta.add(&anchor.v_minus_b);
-        // sin²(a_s/2) of the arc B C_s.
-        let s2 = norm2(&d_vec) / T::from_i64(4);
-        // Step 2: θ = ∠BP with sin²(θ/2) = v sin²(a_s/2),
-        // cos²(θ/2) = cos²(a_s/2) + (1 − v) sin²(a_s/2).
-        let p = if v <= half {
-            // P = B + sin θ·W − (1 − cos θ)·B with W = (cb·t_b + nb·n_b)/|(nb, cb)|;
-            // here cos²(θ/2) = 1 − sin²(θ/2) ≥ 1/2 (no cancellation, and
-            // cos²(a_s/2) is not needed), and sin θ/|(nb, cb)| is one root.
-            let sp2 = v * &s2;
-            let f = (sp2.clone() * &(one.clone() - &sp2) * &inv_nd2).sqrt() * &two;
-            let offset = anchor
-                .t_b
-                .scale(&(f.clone() * &cb))
-                .add(&anchor.n_b.scale(&(f * &nb)))
-                .sub(&self.b.scale(&(sp2 * &two)));
-            self.b.add(&offset)
-        } else {
-            // From the other end: with C_s = cos a_s·B + sin a_s·W,
-            // P = C_s + (cos θ − cos a_s)·B + (sin θ − sin a_s)·W, where
-            // cos θ − cos a_s = 2 sin²(a_s/2)(1 − v) exactly and
-            // sin θ − sin a_s = 2(sin(θ/2) cos(θ/2) − sin(a_s/2) cos(a_s/2)):
-            // both vanish at v = 1 (P = C_s, so (0, 1) ↦ A and (1, 1) ↦ C),
-            // and are small, with small absolute errors, near it.
-            // cos²(a_s/2) = |C_s + B|²/4 keeps its accuracy when C_s ≈ −B.
-            let c2 = norm2(&delta.add(&anchor.v_plus_b)) / T::from_i64(4);
-            let cp2 = c2.clone() + &((one.clone() - &v) * &s2);
-            // sin(θ/2) cos(θ/2) and sin(a_s/2) cos(a_s/2), over |(nb, cb)|.
-            let half_sin_theta = (v.clone() * &s2 * &cp2 * &inv_nd2).sqrt();
-            let half_sin_a = (s2.clone() * &c2 * &inv_nd2).sqrt();
-            let w_coef = (half_sin_theta - &half_sin_a) * &two;
-            let b_coef = s2 * &(one - &v) * &two;
-            let c_s = anchor.vertex.add(&delta);
-            let offset = self
-                .b
-                .scale(&b_coef)
-                .add(&anchor.t_b.scale(&(w_coef.clone() * &cb)))
-                .add(&anchor.n_b.scale(&(w_coef * &nb)));
-            c_s.add(&offset)
-        };
-        // |P| = 1 + O(u): one Newton step towards |P| = |B| (|B| = 1 up to
-        // the rounding of the stored vertex), P·(1 + (|B|² − |P|²)/2), brings
-        // the norm to within about one unit of roundoff without a square root
-        // and leaves P = B (v = 0) untouched.
-        let x = norm2(&p);
-        p.scale(&(T::one() + &((self.b_norm2.clone() - &x) / &two)))
+        let anchor = &self.anchors[usize::from(!robust::uses_anchor_a(&clamp_unit(u)))];
+        robust::map_from(anchor, &self.b, &self.b_norm2, &self.half_omega, u, v)
     }
 
     /// ψ(u, v) by the [`Literal`](SphericalTriangleVariant::Literal)
-    /// evaluation (Arvo 1995 as published), whatever the triangle's variant.
-    /// May return NaN coordinates (see the variant's docs).
+    /// evaluation (Arvo 1995 as published), whatever the triangle's variant
+    /// (its constants are computed here for a robust triangle). May return
+    /// NaN coordinates (see the variant's docs).
     pub fn map_literal(&self, u: &T, v: &T) -> Vec3<T> {
-        self.literal.map(&self.a, &self.b, u, v)
-    }
-
-    /// Where the great circle through B and the unit direction `q` meets the
-    /// arc AC: returns `(sin(θ/2), cos(θ/2), n̂₁, q − B)` with θ = ∠AC_s and
-    /// `n̂₁ = (B × q)/|B × q|`; `None` if `q = ±B`.
-    fn chart_half_angle(&self, q: &Vec3<T>) -> Option<(T, T, Vec3<T>, Vec3<T>)> {
-        let w = q.sub(&self.b);
-        // n₁ = B × q, from the shorter of q ∓ B (no cancellation near ±B).
-        let n1 = if q.dot(&self.b) >= T::zero() {
-            self.b.cross(&w)
-        } else {
-            self.b.cross(&q.add(&self.b))
-        };
-        let n1 = unit(&n1)?;
-        // C_s = cos θ·A + sin θ·[C|A] with C_s·n₁ = 0:
-        // (sin θ, cos θ) ∝ (−A·n₁, [C|A]·n₁), A·n₁ = (A − B)·n₁ exactly.
-        let mut y = -self.a_minus_b.dot(&n1);
-        let mut x = self.c_perp.dot(&n1);
-        // Of the two antipodal intersections take the one on the side of the
-        // arc's midpoint: x·cos(b/2) + y·sin(b/2) ≥ 0, scaled by 2cos(b/2).
-        if x.clone() * &self.one_plus_cos_b + &(y.clone() * &self.sin_b) < T::zero() {
-            x = -x;
-            y = -y;
+        match &self.literal {
+            Some(l) => l.map(&self.a, &self.b, u, v),
+            None => Literal::new(&self.a, &self.b, &self.c).map(&self.a, &self.b, u, v),
         }
-        let r = x.hypot(&y);
-        if !positive(&r) || !r.is_finite() {
-            return None;
-        }
-        // tan(θ/2) = y/(r + x) = (r − x)/y, whichever does not cancel.
-        let (s, c) = if x >= T::zero() {
-            (y, r + &x)
-        } else {
-            (r - &x, y)
-        };
-        let m = s.hypot(&c);
-        Some((s / &m, c / &m, n1, w))
     }
 
-    /// `(C_s − B, C_s + B)` for `C_s` at the half-angle `(sin(θ/2), cos(θ/2))`
-    /// from A: `C_s − A = 2 sin(θ/2)(cos(θ/2)[C|A] − sin(θ/2)A)`.
-    fn chart_offsets(&self, s: &T, c: &T) -> (Vec3<T>, Vec3<T>) {
-        let two_s = s.clone() * &T::from_i64(2);
-        let delta = self
-            .c_perp
-            .scale(&(two_s.clone() * c))
-            .sub(&self.a.scale(&(two_s * s)));
-        (
-            delta.add(&self.from_a.v_minus_b),
-            delta.add(&self.from_a.v_plus_b),
-        )
-    }
-
-    /// ψ⁻¹ by the robust formulas (see [`Warp::inverse`]), without the
-    /// on-shape test; `q` must be a unit vector.
-    fn inverse_robust(&self, q: &Vec3<T>) -> Option<(T, T)> {
-        let Some((s, c, n1, w)) = self.chart_half_angle(q) else {
-            // q = B (v = 0, any u), or q = −B (not on the triangle).
-            return if norm2(&q.sub(&self.b)) == T::zero() {
-                Some((T::zero(), T::zero()))
-            } else {
-                None
-            };
-        };
-        let (d_vec, e_vec) = self.chart_offsets(&s, &c);
-        let two = T::from_i64(2);
-        // Area of A B C_s measured from A (eq. T at A):
-        // tan(A_s/2) = sin c sin α·sin(θ/2) / ((1 + cos c) cos(θ/2) + sin c cos α·sin(θ/2)).
-        // It needs only θ, but its denominator cancels when A_s ≈ π with
-        // A, B, C_s near one great circle (nearly hemispherical triangles).
-        let num_a = self.d.clone() * &s;
-        let (t1, t2) = (self.k1a.clone() * &c, self.ka.clone() * &s);
-        let den_a = t1.clone() + &t2;
-        let half_area = if t1.abs() + &t2.abs() <= num_a.hypot(&den_a) * &T::from_i64(8) {
-            num_a.atan2(&den_a)
-        } else {
-            // Measured from B instead (eq. T at B): with W = n̂₁ × B the unit
-            // tangent at B towards q, sin c·sin β_s = det(A, B, W) = A·n̂₁ and
-            // sin c·cos β_s = A·W,
-            // tan(A_s/2) = sin(a_s/2)·sin c sin β_s / ((1 + cos c) cos(a_s/2) + sin c cos β_s·sin(a_s/2)).
-            // β_s comes from q directly, and cos(a_s/2) — ill-determined when
-            // C_s ≈ −B — only enters to absolute accuracy.
-            let sa = norm2(&d_vec).sqrt() / &two;
-            let ca = norm2(&e_vec).sqrt() / &two;
-            let tangent_b = n1.cross(&self.b);
-            let sign = if self.positive { T::one() } else { -T::one() };
-            let d_b = self.a_minus_b.dot(&n1) * &sign;
-            let k_b = self.a_minus_b.dot(&tangent_b);
-            (sa.clone() * &d_b).atan2(&(self.k1a.clone() * &ca + &(k_b * &sa)))
-        };
-        let u = half_area / &self.half_omega;
-        // v = sin²(∠Bq/2) / sin²(a_s/2) = |q − B|² / |C_s − B|².
-        let v = norm2(&w) / &norm2(&d_vec);
-        Some((clamp_keep_nan(&u), clamp_keep_nan(&v)))
+    /// The inward unit normals of the edge planes AB, BC, CA, from the wide
+    /// core (computed on first use).
+    fn normals(&self) -> &[Vec3<T>; 3] {
+        self.normals.get_or_init(|| {
+            let [a, b, c] = &self.input;
+            build::core_of(a, b, c)
+                .and_then(|core| core.normals())
+                .map(|n| n.map(|v| narrow3::<T>(&v)))
+                .unwrap_or_else(|_| {
+                    // Unreachable for a validated triangle (the same
+                    // computation succeeded in the constructor); the normals
+                    // of the stored vertices in `T` as a fallback.
+                    let sign = if self.positive { T::one() } else { -T::one() };
+                    let inward = |v: &Vec3<T>, w: &Vec3<T>| {
+                        unit_vector(&v.cross(&w.sub(v)).scale(&sign)).unwrap_or(Vec3::zero())
+                    };
+                    [
+                        inward(&self.a, &self.b),
+                        inward(&self.b, &self.c),
+                        inward(&self.c, &self.a),
+                    ]
+                })
+        })
     }
 
     /// `true` if `p` lies on the triangle within the inverse's tolerance
@@ -777,16 +654,14 @@ impl<T: Real> Warp<T> for SphericalTriangle<T> {
     /// half-angle sines), the area with the same half-angle formula as the
     /// robust map, for both variants (Arvo 1995 gives no inverse; the
     /// literal Girard-formula inverse returned NaN at the edges v = 0 and
-    /// u = 0). Refuses `p` if it is not finite or lies farther than
-    /// `2^(−p/2)` from the triangle ([`SphericalTriangle::contains`]);
-    /// `p = B` gives `(0, 0)`.
+    /// u = 0); for `f32` evaluated in [`Real::Wide`]. Refuses `p` if it is
+    /// not finite or lies farther than `2^(−p/2)` from the triangle
+    /// ([`SphericalTriangle::contains`]); `p = B` gives `(0, 0)`.
     fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
         InverseError::check(self, p, &on_shape_tolerance::<T>())?;
-        let refuse = || InverseError::refuse(self, p);
-        let q = unit(p).ok_or_else(refuse)?;
-        // Both variants invert with the robust formulas: Arvo (1995) gives
-        // no inverse, and the map is the same function in both.
-        let (u, v) = self.inverse_robust(&q).ok_or_else(refuse)?;
+        let (u, v) = self
+            .inverse_unchecked(p)
+            .ok_or_else(|| InverseError::refuse(self, p))?;
         Ok([u, v])
     }
 
@@ -799,16 +674,48 @@ impl<T: Real> Warp<T> for SphericalTriangle<T> {
     /// at least one of them (the antipodal region violates all three).
     /// Non-finite or zero `p`: [`Real::max_value`].
     fn outside_by(&self, p: &Vec3<T>) -> T {
+        self.outside_by_impl(p)
+    }
+}
+
+impl<T: Real> SphericalTriangle<T> {
+    /// ψ⁻¹(p) by the triangle's variant without the on-shape test (the
+    /// caller knows `p` is on the triangle, e.g. to its own tolerance).
+    ///
+    /// For a `T` narrower than [`Real::Wide`] (`f32`) the inverse is
+    /// evaluated in the wide type: the unit vertices rounded to `f32` are
+    /// themselves off by `2⁻²⁴`, which moves where the great circle through
+    /// B and `p` meets the arc AC by `2⁻²⁴` over the triangle's angle — all
+    /// of it for a needle a few `f32` ulps wide.
+    pub(crate) fn inverse_unchecked(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        // Both variants invert with the robust formulas: Arvo (1995) gives
+        // no inverse, and the map is the same function in both.
+        if T::precision() < <T::Wide as Real>::precision() {
+            let wide = self.wide.get_or_init(|| {
+                let [a, b, c] = self.input.each_ref().map(widen3);
+                let w = SphericalTriangle::<T::Wide>::new(a, b, c)
+                    .expect("a triangle valid in T is valid in its wide type");
+                Arc::new(WideTriangle::<T>(w))
+            });
+            return wide.inverse(p);
+        }
+        let q = unit_vector(p)?;
+        self.inverse_robust(&q)
+    }
+
+    /// [`Warp::outside_by`].
+    fn outside_by_impl(&self, p: &Vec3<T>) -> T {
         if !p.is_finite() {
             return T::max_value();
         }
-        let Some(q) = unit(p) else {
+        let Some(q) = unit_vector(p) else {
             return T::max_value();
         };
         let radial = (p.norm() - &T::one()).abs();
-        let v_ab = -self.n_ab.dot(&q.sub(&self.a));
-        let v_bc = -self.n_bc.dot(&q.sub(&self.b));
-        let v_ca = -self.n_ca.dot(&q.sub(&self.c));
+        let [n_ab, n_bc, n_ca] = self.normals();
+        let v_ab = -n_ab.dot(&q.sub(&self.a));
+        let v_bc = -n_bc.dot(&q.sub(&self.b));
+        let v_ca = -n_ca.dot(&q.sub(&self.c));
         radial.max(&v_ab).max(&v_bc).max(&v_ca).max(&T::zero())
     }
 }
@@ -816,15 +723,13 @@ impl<T: Real> Warp<T> for SphericalTriangle<T> {
 impl<T: Real> WarpFamily<T> for SphericalTriangle<T> {
     type At<S: Real> = SphericalTriangle<S>;
 
-    /// The triangle with its unit vertices converted to `S` (and normalized
-    /// again there), same variant.
+    /// The triangle with its vertex directions as given
+    /// ([`SphericalTriangle::vertex_inputs`]) converted to `S`, same
+    /// variant: from an `f32` triangle, `at::<Mpfr256>()` is the exact map
+    /// of the `f32` inputs.
     fn at<S: Real>(&self) -> Result<SphericalTriangle<S>, WarpError> {
-        SphericalTriangle::new_with(
-            self.a.convert(),
-            self.b.convert(),
-            self.c.convert(),
-            self.variant,
-        )
+        let [a, b, c] = &self.input;
+        SphericalTriangle::new_with(a.convert(), b.convert(), c.convert(), self.variant)
     }
 
     /// `spherical-triangle` (both variants).
@@ -839,7 +744,7 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
     /// The observer given to [`SphericalTriangle::from_points`] (the origin
     /// for [`SphericalTriangle::new`]).
     fn observer(&self) -> Vec3<T> {
-        self.emitter.observer.clone()
+        self.observer.clone()
     }
 
     /// The direction ψ(u, v) and the point where it meets the planar
@@ -849,7 +754,7 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let d = self.map(&u, &v);
-        let [va, vb, vc] = &self.emitter.vertices;
+        let [va, vb, vc] = &self.input;
         let n = vb.sub(va).cross(&vc.sub(va));
         let dn = d.dot(&n);
         let t = (va.dot(&n) / &dn).abs();
@@ -857,7 +762,7 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
         let pdf = self.inv_omega.clone();
         let pdf_area = pdf.clone() * &cos_e / &t.square();
         LightSample {
-            point: self.emitter.observer.add(&d.scale(&t)),
+            point: self.observer.add(&d.scale(&t)),
             direction: d,
             distance: t,
             pdf,

@@ -11,6 +11,14 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, partition, prepare, unit_direction};
+use crate::shapes::wide::{narrow3, widen3};
+
+/// The polygon is valid, but not once its unit vertices are rounded to `T`.
+fn unrepresentable() -> WarpError {
+    WarpError::Unrepresentable {
+        what: "the polygon's unit vertices rounded to the scalar type no longer bound a valid polygon",
+    }
+}
 use self::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
@@ -343,8 +351,31 @@ impl<T: Real> ProjectedPolygon<T> {
         frame: Option<Frame<T>>,
         inversion: MarginalInversion,
     ) -> Result<Self, WarpError> {
-        let (vertices, solid_angle) = prepare(local)?;
-        let arcs = clip(&vertices)?;
+        // Validation, orientation and solid angle in the wide type (f64 for
+        // f32): f32 accepts what f64 accepts on the same vertices. The
+        // clipping and partition run in T on the rounded unit vertices; where
+        // they fail in T only, T cannot represent the polygon.
+        let wide: Vec<Vec3<T::Wide>> = local.iter().map(widen3).collect();
+        let (vertices_w, solid_angle_w) = prepare(&wide)?;
+        let vertices: Vec<Vec3<T>> = vertices_w.iter().map(narrow3::<T>).collect();
+        let solid_angle = T::narrow(&solid_angle_w);
+        let built = if solid_angle > T::zero() && solid_angle.is_finite() {
+            clip(&vertices).and_then(|arcs| partition(arcs, solid_angle))
+        } else {
+            Err(unrepresentable())
+        };
+        let built = match built {
+            Ok(b) => b,
+            Err(e) if T::precision() < <T::Wide as Real>::precision() => {
+                // The same steps in the wide type decide whose fault it is.
+                clip(&vertices_w).and_then(|arcs| partition(arcs, solid_angle_w))?;
+                return Err(match e {
+                    WarpError::Degenerate { .. } => unrepresentable(),
+                    other => other,
+                });
+            }
+            Err(e) => return Err(e),
+        };
         let Built {
             arcs,
             lunes,
@@ -354,7 +385,7 @@ impl<T: Real> ProjectedPolygon<T> {
             fits,
             measure,
             solid_angle,
-        } = partition(arcs, solid_angle)?;
+        } = built;
         Ok(ProjectedPolygon {
             source,
             inversion,

@@ -6,6 +6,7 @@
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
+use crate::shapes::wide::{floor_log2, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
 /// How far from perpendicular the edges may be, in units of roundoff of the
@@ -14,7 +15,7 @@ pub(super) const PERPENDICULAR_ULPS: i64 = 64;
 
 /// The validated rectangle, its frame and its local coordinates.
 #[derive(Clone, Debug)]
-pub(super) struct Geometry<T> {
+pub(super) struct Geometry<T: Real> {
     /// The corner `s`.
     pub s: Vec3<T>,
     /// The edge `e_x` as given.
@@ -43,6 +44,24 @@ pub(super) struct Geometry<T> {
     pub ly: T,
     /// `h = −(s − o)·ẑ > 0`, scaled.
     pub h: T,
+    /// The scale of the local lengths: local = world · 2^(−exp).
+    pub exp: i32,
+    /// The frame and the corner's local coordinates in `T::Wide`, for the
+    /// inverses: an `f32` direction or point is measured in the frame of
+    /// the exact `f32` shape (a rounded frame would tilt the plane by
+    /// `2^-24`, more than a grazing observer's elevation).
+    pub wide: WideFrame<T::Wide>,
+}
+
+/// The frame `(x̂, ŷ, ẑ)` and the corner's scaled local coordinates
+/// `(x₀, y₀)` in the wide type.
+#[derive(Clone, Debug)]
+pub(super) struct WideFrame<W> {
+    pub xhat: Vec3<W>,
+    pub yhat: Vec3<W>,
+    pub zhat: Vec3<W>,
+    pub x0: W,
+    pub y0: W,
 }
 
 /// `√(Σ xᵢ²)` by one square root when the sum of squares is neither tiny
@@ -154,15 +173,27 @@ impl<T: Real> Geometry<T> {
             .max(&h_world)
             .to_f64();
         let e = if m > 0.0 && m.is_finite() {
-            (m.log2().floor() as i32).clamp(-120, 120)
+            // 2^±lim is representable in T (±120 in f32, ±1016 in f64).
+            let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
+            floor_log2(m).clamp(-lim, lim)
         } else {
             0
         };
         let scale = T::exp2i(-e);
+        let x0 = x0w * &scale;
+        let y0 = y0w * &scale;
         Ok(Geometry {
-            x0: x0w * &scale,
+            exp: e,
+            wide: WideFrame {
+                xhat: widen3(&xhat),
+                yhat: widen3(&yhat),
+                zhat: widen3(&zhat),
+                x0: x0.widen(),
+                y0: y0.widen(),
+            },
+            x0,
             lx: lx_world * &scale,
-            y0: y0w * &scale,
+            y0,
             ly: ly_world * &scale,
             h: h_world.clone() * &scale,
             s,
@@ -176,6 +207,58 @@ impl<T: Real> Geometry<T> {
         })
     }
 
+    /// The geometry rounded to `T` (`self` computed in `T::Wide`).
+    pub fn narrow<N: Real<Wide = T>>(&self) -> Geometry<N> {
+        Geometry {
+            s: narrow3(&self.s),
+            ex: narrow3(&self.ex),
+            ey: narrow3(&self.ey),
+            o: narrow3(&self.o),
+            xhat: narrow3(&self.xhat),
+            yhat: narrow3(&self.yhat),
+            zhat: narrow3(&self.zhat),
+            h_world: N::narrow(&self.h_world),
+            x0: N::narrow(&self.x0),
+            lx: N::narrow(&self.lx),
+            y0: N::narrow(&self.y0),
+            ly: N::narrow(&self.ly),
+            h: N::narrow(&self.h),
+            exp: self.exp,
+            wide: WideFrame {
+                xhat: self.xhat.clone(),
+                yhat: self.yhat.clone(),
+                zhat: self.zhat.clone(),
+                x0: self.x0.clone(),
+                y0: self.y0.clone(),
+            },
+        }
+    }
+
+    /// The local coordinates `(x, y)` (scaled, observer at the origin) of
+    /// the world point `p`, computed in `T::Wide` in the wide frame, either
+    /// from the observer, `(p − o)·x̂`, or from the corner,
+    /// `x₀ + (p − s)·x̂`, whichever has the smaller rounding error
+    /// (`|p − o|` against `|s − o|_plane + |p − s|`): from the observer on an
+    /// elongated rectangle whose corner is far away, from the corner when
+    /// the observer is far from the rectangle.
+    pub fn local_point(&self, p: &Vec3<T>) -> (T, T) {
+        let f = &self.wide;
+        let pw = widen3(p);
+        let from_o = pw.sub(&widen3(&self.o));
+        let from_s = pw.sub(&widen3(&self.s));
+        let scale = <T::Wide as Real>::exp2i(-self.exp);
+        let corner = f.x0.abs().max(&f.y0.abs()) / &scale;
+        let (x, y) = if from_o.max_abs() <= corner + &from_s.max_abs() {
+            (from_o.dot(&f.xhat) * &scale, from_o.dot(&f.yhat) * &scale)
+        } else {
+            (
+                f.x0.clone() + &(from_s.dot(&f.xhat) * &scale),
+                f.y0.clone() + &(from_s.dot(&f.yhat) * &scale),
+            )
+        };
+        (T::narrow(&x), T::narrow(&y))
+    }
+
     /// The world point `s + ξ e_x + η e_y`.
     pub fn point(&self, xi: &T, eta: &T) -> Vec3<T> {
         self.s.add(&self.ex.scale(xi)).add(&self.ey.scale(eta))
@@ -185,6 +268,10 @@ impl<T: Real> Geometry<T> {
     pub fn direction(&self, x: &T, y: &T) -> Vec3<T> {
         let r2 = x.square() + &y.square() + &self.h.square();
         let r = r2.sqrt();
+        if r.is_nan() {
+            // A NaN sample (NaN u or v) stays NaN.
+            return Vec3::new(r.clone(), r.clone(), r);
+        }
         if !positive(&r) || !r.is_finite() {
             return self.zhat.neg();
         }
@@ -203,12 +290,14 @@ impl<T: Real> Geometry<T> {
         if !w.is_finite() {
             return None;
         }
-        let m = w.max_abs();
-        if !positive(&m) {
-            return None;
-        }
-        let w = w.scale(&(T::one() / &m));
-        let w = w.scale(&(T::one() / &w.norm_squared().sqrt()));
-        Some((w.dot(&self.xhat), w.dot(&self.yhat), -w.dot(&self.zhat)))
+        // In the wide frame: for a grazing observer the elevation −w·ẑ is
+        // far below 2^-p and must not be swamped by the frame's rounding.
+        let f = &self.wide;
+        let w = unit_vector(&widen3(w))?;
+        Some((
+            T::narrow(&w.dot(&f.xhat)),
+            T::narrow(&w.dot(&f.yhat)),
+            T::narrow(&-w.dot(&f.zhat)),
+        ))
     }
 }

@@ -63,7 +63,7 @@ use crate::vector::Vec3;
 /// assert!(d < 1e-14, "{d}");
 /// ```
 #[derive(Clone, Debug)]
-pub struct SphericalRectangleRecipe<T> {
+pub struct SphericalRectangleRecipe<T: Real> {
     pub(super) geometry: Geometry<T>,
     ey_input: Vec3<T>,
     bits: u32,

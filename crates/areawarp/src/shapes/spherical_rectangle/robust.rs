@@ -21,6 +21,8 @@
 
 use super::geometry::{Geometry, length};
 use crate::real::Real;
+use crate::shapes::turns::positive;
+use crate::shapes::wide::floor_log2;
 
 /// ω and its complements at one column `x`.
 #[derive(Clone, Debug)]
@@ -91,18 +93,29 @@ pub(super) struct Robust<T> {
     sigma: T,
     y_sum: T,
     y_same_sign: bool,
-    sd: T,
+    /// `σ·S_d` with the power of two `σ = 2^k` that brings `S_d` into
+    /// `[1, 2)` (see [`Robust::column_at`]).
+    sd_scaled: T,
+    /// `σ` and `1/σ²`.
+    sd_scale: T,
+    inv_scale2: T,
     cd: T,
     sdcd: T,
     sd2: T,
     cd2: T,
-    /// `2ℓ₀ℓ₁ C_d S_d`.
+    /// `2ℓ₀ℓ₁ C_d S_d · σ`.
     k_x: T,
     col0: Column<T>,
     col1: Column<T>,
     omega: T,
     half_omega: T,
     anchors: [Anchor<T>; 2],
+}
+
+/// The faces of the cone spanned by the rectangle, for
+/// [`Cone::outside_local`] (computed on the first use of `outside_by`).
+#[derive(Clone, Debug)]
+pub(super) struct Cone<T> {
     /// Inward unit normals of the faces x₀, x₁, y₀, y₁ of the cone spanned
     /// by the rectangle (local vectors `(x, y, z)`, rectangle at `z = −h`).
     normals: [[T; 3]; 4],
@@ -152,8 +165,10 @@ fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
 }
 
 impl<T: Real> Robust<T> {
-    /// The constants of the rectangle of `g`.
-    pub fn new(g: &Geometry<T>) -> Self {
+    /// The constants of the rectangle of `g`; with `only_anchor = Some(i)`
+    /// only the anchor `i` (0: `x₀`, for `u ≤ 1/2`; 1: `x₁`) is computed
+    /// (it stands in both places): what one sample needs.
+    pub fn new(g: &Geometry<T>, only_anchor: Option<usize>) -> Self {
         let one = T::one();
         let two = T::from_i64(2);
         let half = T::from_ratio(1, 2);
@@ -214,44 +229,42 @@ impl<T: Real> Robust<T> {
         let sd2 = sd.square();
         let cd2 = cd.square();
 
-        let unit = |v: [T; 3]| -> [T; 3] {
-            let inv = T::one() / &length(&v);
-            v.map(|c| c * &inv)
+        // σ = 2^k, k = −⌊log₂ S_d⌋: the anchors' sines of half angles that
+        // are O(S_d), and the sample's sin(τ/2), are stored times σ, so that
+        // the products of four of them in `column_at` do not underflow when
+        // the observer grazes the plane (S_d → 0); the scaling is exact.
+        let k = if positive(&sd) {
+            (-floor_log2(sd.to_f64())).clamp(0, 1000)
+        } else {
+            0
         };
-        let normals = [
-            unit([h.clone(), zero.clone(), x0.clone()]),
-            unit([-h.clone(), zero.clone(), -x1.clone()]),
-            unit([zero.clone(), h.clone(), y0.clone()]),
-            unit([zero.clone(), -h.clone(), -y1.clone()]),
-        ];
-        let ndot = |p: &[T; 3], q: &[T; 3]| {
-            p[0].clone() * &q[0] + &(p[1].clone() * &q[1]) + &(p[2].clone() * &q[2])
+        let sd_scale = T::exp2i(k);
+        let inv_scale2 = T::exp2i(-2 * k);
+        let sd_scaled = sd.clone() * &sd_scale;
+        let anchors = match only_anchor {
+            Some(i) => {
+                let a = if i == 0 {
+                    anchor(&col0, &x0, false, &sd, &cd, &sd_scale, &lengths)
+                } else {
+                    anchor(&col1, &x1, true, &sd, &cd, &sd_scale, &lengths)
+                };
+                [a.clone(), a]
+            }
+            None => [
+                anchor(&col0, &x0, false, &sd, &cd, &sd_scale, &lengths),
+                anchor(&col1, &x1, true, &sd, &cd, &sd_scale, &lengths),
+            ],
         };
-        let normal_dots = [
-            ndot(&normals[0], &normals[2]),
-            ndot(&normals[0], &normals[3]),
-            ndot(&normals[1], &normals[2]),
-            ndot(&normals[1], &normals[3]),
-        ];
-        let corners = [
-            unit([x0.clone(), y0.clone(), -h.clone()]),
-            unit([x1.clone(), y0.clone(), -h.clone()]),
-            unit([x1.clone(), y1.clone(), -h.clone()]),
-            unit([x0.clone(), y1.clone(), -h.clone()]),
-        ];
         let mut r = Robust {
-            normals,
-            normal_dots,
-            corners,
             inv_lx: one.clone() / &lx,
             inv_ly: one.clone() / &ly,
             y_sum: y1.clone() + &y0,
             y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
-            k_x: two.clone() * &l0 * &l1 * &sdcd,
-            anchors: [
-                anchor(&col0, &x0, false, &sd, &cd, &lengths),
-                anchor(&col1, &x1, true, &sd, &cd, &lengths),
-            ],
+            k_x: two.clone() * &l0 * &l1 * &sdcd * &sd_scale,
+            anchors,
+            sd_scale,
+            inv_scale2,
+            sd_scaled,
             x0,
             x1,
             y0,
@@ -264,7 +277,6 @@ impl<T: Real> Robust<T> {
             l0sq,
             l1sq,
             sigma,
-            sd,
             cd,
             sdcd,
             sd2,
@@ -328,18 +340,23 @@ impl<T: Real> Robust<T> {
             (&self.anchors[1], T::one() - u, true)
         };
         let (st, ct) = (uu * &self.half_omega).sin_cos();
+        // Every sine of a half angle below is σ times its value (exact).
+        let st = st * &self.sd_scale;
         // Half angles at the sample by the addition theorems (τ/2 ≥ 0 moves
         // Φ̃ and M̃ up and P̃ down).
         let su = a.s_phi.clone() * &ct + &(a.c_phi.clone() * &st);
-        let gu = a.c_phi.clone() * &ct - &(a.s_phi.clone() * &st);
+        // cos(Φ/2) is O(1): the product of two scaled sines is divided by σ².
+        let gu = a.c_phi.clone() * &ct - &(a.s_phi.clone() * &st * &self.inv_scale2);
         let sp = a.s_p.clone() * &ct - &(a.c_p.clone() * &st);
         let sm = a.s_m.clone() * &ct + &(a.c_m.clone() * &st);
         let (l0, l1) = (&self.l0, &self.l1);
-        let q = sp.clone()
-            * &sm
-            * &(l0.clone() * &sm + &(l1.clone() * &sp))
-            * &(l0.clone() * &sp + &(l1.clone() * &sm));
-        let rq = q.sqrt();
+        // √q for q = sp·sm·(ℓ₀sm + ℓ₁sp)(ℓ₀sp + ℓ₁sm), as the product of two
+        // roots of products of two factors: near an anchor with the observer
+        // above the interior (C_d → 0) every factor is O(C_d), and a product
+        // of four would underflow long before the shape's quantities do.
+        let sa = l0.clone() * &sm + &(l1.clone() * &sp);
+        let sb = l0.clone() * &sp + &(l1.clone() * &sm);
+        let rq = (sp.clone() * &sm).sqrt() * &(sa * &sb).sqrt();
         let xt = self.k_x.clone() * &su * &gu / &rq;
         let dx = if a.w_negative && su > T::zero() {
             // The column crossed the foot: both terms positive.
@@ -347,7 +364,7 @@ impl<T: Real> Robust<T> {
         } else {
             // Same sign: x(ω) − x(ωₑ) = (Nₑ/σ) δω (ω + ωₑ) F / ((ω√Sₑ + ωₑ√S) √S),
             // everything multiplied through by g = cos(Φ̃/2) S_d.
-            let g = gu * &self.sd;
+            let g = gu * &self.sd_scaled;
             let wh = su * &self.cd;
             let dh = st * &a.n;
             let (one_m_abs, aw) = if wh >= T::zero() {
@@ -359,12 +376,15 @@ impl<T: Real> Robust<T> {
             let m_plus = g.clone() + &(aw * &a.abs_w);
             let fg2 = (l0.clone() * &m_plus + &(l1.clone() * &m_minus))
                 * &(l0.clone() * &m_minus + &(l1.clone() * &m_plus));
+            // F²g²/√q is O(1): divided first, so that no product of more
+            // than two small factors is formed.
+            let fg2_rq = fg2 / &rq;
             if a.w_zero {
-                a.n_over_sigma.clone() * &dh * &fg2 / &(g * &a.sqrt_s * &rq)
+                a.n_over_sigma.clone() * &dh * &fg2_rq / &(g * &a.sqrt_s)
             } else {
-                let num = a.n_over_sigma.clone() * &dh * &(wh.clone() + &(a.w.clone() * &g)) * &fg2;
-                let den = (wh * &g * &a.sqrt_s + &(a.w.clone() * &rq)) * &rq;
-                num / &den
+                let ratio = (wh.clone() + &(a.w.clone() * &g))
+                    / &(wh * &g * &a.sqrt_s + &(a.w.clone() * &rq));
+                a.n_over_sigma.clone() * &dh * &ratio * &fg2_rq
             }
         };
         if mirrored {
@@ -466,6 +486,44 @@ impl<T: Real> Robust<T> {
         let by = (self.y1.clone() - &y).max(&zero);
         [x, ax, bx, y, ay, by]
     }
+}
+
+impl<T: Real> Cone<T> {
+    /// The faces and edges of the cone of the rectangle of `r`.
+    pub fn new(r: &Robust<T>) -> Self {
+        let zero = T::zero();
+        let (x0, x1, y0, y1, h) = (&r.x0, &r.x1, &r.y0, &r.y1, &r.h);
+        let unit = |v: [T; 3]| -> [T; 3] {
+            let inv = T::one() / &length(&v);
+            v.map(|c| c * &inv)
+        };
+        let normals = [
+            unit([h.clone(), zero.clone(), x0.clone()]),
+            unit([-h.clone(), zero.clone(), -x1.clone()]),
+            unit([zero.clone(), h.clone(), y0.clone()]),
+            unit([zero.clone(), -h.clone(), -y1.clone()]),
+        ];
+        let ndot = |p: &[T; 3], q: &[T; 3]| {
+            p[0].clone() * &q[0] + &(p[1].clone() * &q[1]) + &(p[2].clone() * &q[2])
+        };
+        let normal_dots = [
+            ndot(&normals[0], &normals[2]),
+            ndot(&normals[0], &normals[3]),
+            ndot(&normals[1], &normals[2]),
+            ndot(&normals[1], &normals[3]),
+        ];
+        let corners = [
+            unit([x0.clone(), y0.clone(), -h.clone()]),
+            unit([x1.clone(), y0.clone(), -h.clone()]),
+            unit([x1.clone(), y1.clone(), -h.clone()]),
+            unit([x0.clone(), y1.clone(), -h.clone()]),
+        ];
+        Cone {
+            normals,
+            normal_dots,
+            corners,
+        }
+    }
 
     /// How far the unit local direction `(a, b, c)` (`c = −w·ẑ`, positive
     /// towards the plane) lies outside the spherical rectangle: the
@@ -543,6 +601,7 @@ fn anchor<T: Real>(
     mirror: bool,
     sd: &T,
     cd: &T,
+    scale: &T,
     k: &Lengths<'_, T>,
 ) -> Anchor<T> {
     let two = T::from_i64(2);
@@ -550,11 +609,11 @@ fn anchor<T: Real>(
     let sdw = sd.clone() * &w;
     let n = length(&[cd.clone(), sdw.clone()]);
     let inv_n = T::one() / &n;
-    let s_phi = sdw.clone() * &inv_n;
+    let s_phi = sdw.clone() * &inv_n * scale;
     let c_phi = cd.clone() * &inv_n;
     let sdcd_n = sd.clone() * cd * &inv_n;
-    let s_p = col.one_m_w.clone() * &sdcd_n;
-    let s_m = col.one_p_w.clone() * &sdcd_n;
+    let s_p = col.one_m_w.clone() * &sdcd_n * scale;
+    let s_m = col.one_p_w.clone() * &sdcd_n * scale;
     let cd2 = cd.square();
     let sd2w = sd.clone() * &sdw;
     let c_p = (cd2.clone() + &sd2w) * &inv_n;

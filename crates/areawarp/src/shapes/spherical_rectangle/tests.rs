@@ -82,14 +82,25 @@ fn spherical_rectangle_constructor_errors() {
     // Zero solid angle: so far away that Ω underflows.
     let r = new(s, ex, ey, v3(0.0, 0.0, 1e200));
     assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
-    // The same errors at f32, and a tiny but non-zero height is accepted.
+    // The same errors at f32; a tiny but non-zero height is accepted while
+    // h² stays a normal f32 number with 24 bits to spare (h ≥ 2^-51 times
+    // the rectangle's scale), rejected as unrepresentable below.
     let r = SphericalRectangle::<f32>::new(
         Vec3::new(0.0, 0.0, 0.0),
         Vec3::new(1.0, 0.0, 0.0),
         Vec3::new(0.0, 1.0, 0.0),
-        Vec3::new(-0.5, 0.5, 1e-30),
+        Vec3::new(-0.5, 0.5, 1e-15),
     );
     assert!(r.is_ok(), "{r:?}");
+    for h in [1e-30f32, 1e-38] {
+        let r = SphericalRectangle::<f32>::new(
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(-0.5, 0.5, h),
+        );
+        assert!(matches!(r, Err(WarpError::Unrepresentable { .. })), "{r:?}");
+    }
     let r = SphericalRectangle::<f32>::new(
         Vec3::new(0.0, 0.0, 0.0),
         Vec3::new(1.0, 0.0, 0.0),

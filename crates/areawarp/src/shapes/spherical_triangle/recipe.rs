@@ -1,9 +1,11 @@
 //! The recipe specification of the spherical triangle (Arvo 2001, §1.3.5).
 
-use super::{SphericalTriangle, norm2, unit};
+use super::SphericalTriangle;
+use super::build::norm2;
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
+use crate::shapes::wide::unit_vector;
 use crate::vector::Vec3;
 use crate::warp::{Warp, WarpFamily};
 
@@ -51,7 +53,7 @@ fn embed3<T: Real, S: Embed<T>>(v: &Vec3<T>) -> Vec3<S> {
 /// assert!(d < 1e-14);
 /// ```
 #[derive(Clone, Debug)]
-pub struct SphericalTriangleRecipe<T> {
+pub struct SphericalTriangleRecipe<T: Real> {
     tri: SphericalTriangle<T>,
     /// b = ∠AC.
     b_arc: T,
@@ -115,7 +117,7 @@ impl<T: Real> Parametrization<T> for SphericalTriangleRecipe<T> {
         if !p.is_finite() {
             return None;
         }
-        let q = unit(p)?;
+        let q = unit_vector(p)?;
         let (sh, ch, _, w) = self.tri.chart_half_angle(&q)?;
         let two = T::from_i64(2);
         let s = sh.atan2(&ch) * &two / &self.b_arc;

@@ -1,0 +1,293 @@
+//! One-shot against per-sample cost of the light shapes (issue 10, item 4;
+//! issue 13, item 4), in one run: the spherical triangle and rectangle,
+//! robust, in `f32`, `f64` and the mixed mode (`f32` in and out, `f64`
+//! arithmetic).
+//!
+//! For each shape and evaluation, over a batch of 256 shading points (the
+//! observer moves from point to point, as in a renderer) and 256 `(u, v)`:
+//! - `per-sample`: the shape built once, constants precomputed; one
+//!   `(direction, pdf)` per `(u, v)`;
+//! - `one-shot`: construct + one sample per shading point
+//!   (`sample_once`, no shape kept);
+//! - `solid-angle`: the one-shot solid angle (the pdf is `1/Ω`) per shading
+//!   point, no shape built;
+//! - `build`: the full constructor per shading point, for reference.
+//!
+//! ```text
+//! cargo bench -p areawarp --bench one_shot -- --warm-up-time 1 --measurement-time 3
+//! ```
+//!
+//! Criterion reports the time per batch of 256 (ns/sample = batch / 256); the
+//! ratios one-shot / per-sample are taken within one run.
+
+use areawarp::precision_choice::Mixed;
+use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::{LightWarp, Real, Vec3, Warp};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use std::hint::black_box;
+
+const N: usize = 256;
+
+/// A 64-bit LCG in [0, 1).
+fn lcg(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn batch<T: Real>() -> Vec<(T, T)> {
+    let mut next = lcg(0x2545_F491_4F6C_DD1D);
+    (0..N)
+        .map(|_| (T::from_f64(next()), T::from_f64(next())))
+        .collect()
+}
+
+/// Triangle lights (points) and shading points below them.
+fn triangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
+    let mut next = lcg(7);
+    (0..N)
+        .map(|_| {
+            let o = Vec3::from_f64(next() - 0.5, next() - 0.5, -1.0 - next());
+            [
+                Vec3::from_f64(1.0, 0.1, 0.0),
+                Vec3::from_f64(0.2, 1.0, 0.1),
+                Vec3::from_f64(0.0, 0.3, 1.0),
+                o,
+            ]
+        })
+        .collect()
+}
+
+/// A rectangle light and shading points below it.
+fn rectangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
+    let mut next = lcg(11);
+    (0..N)
+        .map(|_| {
+            [
+                Vec3::from_f64(-0.5, -0.4, 1.0),
+                Vec3::from_f64(1.0, 0.0, 0.0),
+                Vec3::from_f64(0.0, 0.8, 0.0),
+                Vec3::from_f64(2.0 * next() - 1.0, 2.0 * next() - 1.0, -next()),
+            ]
+        })
+        .collect()
+}
+
+#[inline]
+fn fold<T: Real>(acc: T, p: &Vec3<T>, pdf: &T) -> T {
+    acc + &p.x + &p.y + &p.z + pdf
+}
+
+fn widen(v: &Vec3<f32>) -> Vec3<f64> {
+    Vec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
+}
+
+fn narrow(v: &Vec3<f64>) -> Vec3<f32> {
+    Vec3::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
+    let uv = batch::<T>();
+    let shapes = triangles::<T>();
+    let mut g = c.benchmark_group(format!("triangle/{name}"));
+    g.throughput(Throughput::Elements(N as u64));
+    let [a, b, cc, o] = &shapes[0];
+    let t = SphericalTriangle::from_points(a.clone(), b.clone(), cc.clone(), o.clone()).unwrap();
+    g.bench_function("per-sample", |bch| {
+        bch.iter(|| {
+            uv.iter().fold(T::zero(), |acc, (u, v)| {
+                let (p, pdf) = t.map_with_pdf(black_box(u), black_box(v));
+                fold(acc, &p, &pdf)
+            })
+        })
+    });
+    g.bench_function("one-shot", |bch| {
+        bch.iter(|| {
+            shapes
+                .iter()
+                .zip(&uv)
+                .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
+                    let (p, pdf) = SphericalTriangle::sample_once_from_points(
+                        black_box(a),
+                        b,
+                        c,
+                        black_box(o),
+                        u,
+                        v,
+                    )
+                    .unwrap();
+                    fold(acc, &p, &pdf)
+                })
+        })
+    });
+    g.bench_function("solid-angle", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [a, b, c, o]| {
+                let o = black_box(o);
+                let omega =
+                    SphericalTriangle::solid_angle_of(&a.sub(o), &b.sub(o), &c.sub(o)).unwrap();
+                acc + &omega
+            })
+        })
+    });
+    g.bench_function("build", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [a, b, c, o]| {
+                let t = SphericalTriangle::from_points(
+                    black_box(a).clone(),
+                    b.clone(),
+                    c.clone(),
+                    o.clone(),
+                )
+                .unwrap();
+                acc + t.solid_angle()
+            })
+        })
+    });
+    g.finish();
+}
+
+fn triangle_mixed(c: &mut Criterion) {
+    let uv = batch::<f32>();
+    let shapes = triangles::<f32>();
+    let mut g = c.benchmark_group("triangle/f32 mixed");
+    g.throughput(Throughput::Elements(N as u64));
+    let [a, b, cc, o] = &shapes[0];
+    let t = SphericalTriangle::<f64>::from_points(widen(a), widen(b), widen(cc), widen(o)).unwrap();
+    let m = Mixed::new(&t).unwrap();
+    g.bench_function("per-sample", |bch| {
+        bch.iter(|| {
+            uv.iter().fold(0.0f32, |acc, (u, v)| {
+                let (p, pdf) = m.map_with_pdf(black_box(u), black_box(v));
+                fold(acc, &p, &pdf)
+            })
+        })
+    });
+    g.bench_function("one-shot", |bch| {
+        bch.iter(|| {
+            shapes
+                .iter()
+                .zip(&uv)
+                .fold(0.0f32, |acc, ([a, b, c, o], (u, v))| {
+                    let (p, pdf) = SphericalTriangle::<f64>::sample_once_from_points(
+                        &widen(black_box(a)),
+                        &widen(b),
+                        &widen(c),
+                        &widen(black_box(o)),
+                        &f64::from(*u),
+                        &f64::from(*v),
+                    )
+                    .unwrap();
+                    fold(acc, &narrow(&p), &(pdf as f32))
+                })
+        })
+    });
+    g.finish();
+}
+
+fn rectangle_in<T: Real>(c: &mut Criterion, name: &str) {
+    let uv = batch::<T>();
+    let shapes = rectangles::<T>();
+    let mut g = c.benchmark_group(format!("rectangle/{name}"));
+    g.throughput(Throughput::Elements(N as u64));
+    let [s, ex, ey, o] = &shapes[0];
+    let r = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone()).unwrap();
+    g.bench_function("per-sample", |bch| {
+        bch.iter(|| {
+            uv.iter().fold(T::zero(), |acc, (u, v)| {
+                let smp = r.sample_light([black_box(u).clone(), black_box(v).clone()]);
+                fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+            })
+        })
+    });
+    g.bench_function("one-shot", |bch| {
+        bch.iter(|| {
+            shapes
+                .iter()
+                .zip(&uv)
+                .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
+                    let smp =
+                        SphericalRectangle::sample_once(black_box(s), ex, ey, black_box(o), u, v)
+                            .unwrap();
+                    fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+                })
+        })
+    });
+    g.bench_function("solid-angle", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [s, ex, ey, o]| {
+                acc + &SphericalRectangle::solid_angle_of(black_box(s), ex, ey, black_box(o))
+                    .unwrap()
+            })
+        })
+    });
+    g.bench_function("build", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [s, ex, ey, o]| {
+                let r = SphericalRectangle::new(
+                    black_box(s).clone(),
+                    ex.clone(),
+                    ey.clone(),
+                    o.clone(),
+                )
+                .unwrap();
+                acc + &r.solid_angle()
+            })
+        })
+    });
+    g.finish();
+}
+
+fn rectangle_mixed(c: &mut Criterion) {
+    let uv = batch::<f32>();
+    let shapes = rectangles::<f32>();
+    let mut g = c.benchmark_group("rectangle/f32 mixed");
+    g.throughput(Throughput::Elements(N as u64));
+    let [s, ex, ey, o] = &shapes[0];
+    let r = SphericalRectangle::<f64>::new(widen(s), widen(ex), widen(ey), widen(o)).unwrap();
+    let m = Mixed::new(&r).unwrap();
+    g.bench_function("per-sample", |bch| {
+        bch.iter(|| {
+            uv.iter().fold(0.0f32, |acc, (u, v)| {
+                let (p, pdf) = m.map_with_pdf(black_box(u), black_box(v));
+                fold(acc, &p, &pdf)
+            })
+        })
+    });
+    g.bench_function("one-shot", |bch| {
+        bch.iter(|| {
+            shapes
+                .iter()
+                .zip(&uv)
+                .fold(0.0f32, |acc, ([s, ex, ey, o], (u, v))| {
+                    let smp = SphericalRectangle::<f64>::sample_once(
+                        &widen(black_box(s)),
+                        &widen(ex),
+                        &widen(ey),
+                        &widen(black_box(o)),
+                        &f64::from(*u),
+                        &f64::from(*v),
+                    )
+                    .unwrap();
+                    fold(acc, &narrow(&smp.direction), &(smp.pdf as f32))
+                })
+        })
+    });
+    g.finish();
+}
+
+fn benches(c: &mut Criterion) {
+    triangle_in::<f32>(c, "f32 robust");
+    triangle_mixed(c);
+    triangle_in::<f64>(c, "f64 robust");
+    rectangle_in::<f32>(c, "f32 robust");
+    rectangle_mixed(c);
+    rectangle_in::<f64>(c, "f64 robust");
+}
+
+criterion_group!(one_shot, benches);
+criterion_main!(one_shot);

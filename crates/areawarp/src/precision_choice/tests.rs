@@ -1,0 +1,122 @@
+use super::*;
+use crate::shapes::{hard_rectangles, hard_triangles};
+
+#[test]
+fn ordinary_triangle_takes_f32_and_mixed_is_accurate() {
+    let t = SphericalTriangle::<f64>::new(
+        Vec3::new(1.0, 0.1, 0.0),
+        Vec3::new(0.2, 1.0, 0.1),
+        Vec3::new(0.0, 0.3, 1.0),
+    )
+    .unwrap();
+    let a = advise(&t).unwrap();
+    assert!(a.kappa_f32 > 1e-8 && a.kappa_f32 < 1e-6, "{a:?}");
+    assert!(a.kappa_f64 > 1e-17 && a.kappa_f64 < 1e-15, "{a:?}");
+    assert_eq!(a.choose(1e-5), Some(Evaluation::RobustF32));
+    assert_eq!(a.choose(1e-7), Some(Evaluation::MixedF32));
+    assert_eq!(a.choose(1e-9), Some(Evaluation::RobustF64));
+    assert_eq!(a.choose(1e-20), None);
+    // Literal: at the probes far worse than the robust maps.
+    assert!(a.predicted(Evaluation::LiteralF64) > 1e3 * a.predicted(Evaluation::RobustF64));
+    let m = Mixed::new(&t).unwrap();
+    let t32 = t.at::<f32>().unwrap();
+    for (u, v) in probes() {
+        let (u, v) = (u as f32, v as f32);
+        let p = m.map(&u, &v);
+        let q = t32.map(&u, &v);
+        assert!(p.sub(&q).max_abs() < 1e-6, "{p:?} {q:?}");
+        assert!(m.inverse(&p).is_ok());
+    }
+}
+
+#[test]
+fn hard_shapes_have_finite_predictions_for_the_robust_maps() {
+    for (name, [a, b, c]) in hard_triangles() {
+        let adv = advise(&SphericalTriangle::<f64>::new(a, b, c).unwrap()).unwrap();
+        for e in [
+            Evaluation::RobustF32,
+            Evaluation::MixedF32,
+            Evaluation::RobustF64,
+        ] {
+            let p = adv.predicted(e);
+            assert!(p.is_finite() && p > 0.0, "{name} {e}: {adv:?}");
+        }
+        assert!(adv.choose(1.0).is_some(), "{name}");
+    }
+    for (name, [s, ex, ey, o]) in hard_rectangles() {
+        let adv = advise(&SphericalRectangle::<f64>::new(s, ex, ey, o).unwrap()).unwrap();
+        assert!(
+            adv.predicted(Evaluation::RobustF64).is_finite(),
+            "{name}: {adv:?}"
+        );
+    }
+}
+
+/// Issue 13 on the whole ladder (triangles and rectangles, ordinary and
+/// hard): f32 accepts what f64 accepts on the same values; the robust f32
+/// map within 16·max(2⁻²⁴, κ₃₂), the inverse within max(1e-6, 16·κ_inv),
+/// never refusing its own samples; the predictions of `advise` at least the
+/// measured errors of every evaluation, within 100× for ≥ 90% of them.
+#[cfg(feature = "mpfr")]
+mod ladder {
+    use super::*;
+    use crate::harness::extremes::{extremes_grid, random_points};
+    use crate::precision_choice::measure::{audit_f32, measure};
+    use crate::shapes::{ordinary_rectangles, ordinary_triangles};
+
+    fn points() -> Vec<(f64, f64)> {
+        let mut p = extremes_grid();
+        p.extend(random_points(16, 42));
+        p
+    }
+
+    fn check<W: Advisable>(name: &str, w: &W, stats: &mut (usize, usize, usize)) {
+        let pts = points();
+        let a = audit_f32(w, &pts).unwrap();
+        println!("{name}: {a:?}");
+        assert_eq!(a.f32_accepts, a.f64_accepts, "{name}: {a:?}");
+        if a.f32_accepts {
+            assert!(a.map_ratio <= 1.0, "{name}: {a:?}");
+            assert!(a.inverse_ratio <= 1.0, "{name}: {a:?}");
+            assert_eq!(a.inverse_refusals + a.non_finite, 0, "{name}: {a:?}");
+        }
+        let advice = advise(w).unwrap();
+        for m in measure(w, &pts).unwrap() {
+            if !m.accepted {
+                continue;
+            }
+            let p = advice.predicted(m.evaluation);
+            println!(
+                "  {}: predicted {p:.3e} measured {:.3e}",
+                m.evaluation, m.worst_error
+            );
+            assert!(
+                p >= m.worst_error,
+                "{name} {}: {p:e} < {:e}",
+                m.evaluation,
+                m.worst_error
+            );
+            stats.0 += 1;
+            stats.1 += usize::from(p <= 100.0 * m.worst_error);
+            stats.2 += usize::from(m.evaluation.is_robust() && p > 100.0 * m.worst_error);
+        }
+    }
+
+    #[test]
+    fn ladder_f32_accepted_accurate_and_predicted() {
+        let mut stats = (0, 0, 0);
+        for (name, [a, b, c]) in ordinary_triangles().into_iter().chain(hard_triangles()) {
+            let t = SphericalTriangle::<f64>::new(a, b, c).unwrap();
+            check(&name, &t, &mut stats);
+        }
+        for (name, [s, ex, ey, o]) in ordinary_rectangles().into_iter().chain(hard_rectangles()) {
+            let r = SphericalRectangle::<f64>::new(s, ex, ey, o).unwrap();
+            check(&name, &r, &mut stats);
+        }
+        println!(
+            "cases {}, within 100×: {}, robust beyond 100×: {}",
+            stats.0, stats.1, stats.2
+        );
+        assert!(stats.1 * 10 >= stats.0 * 9, "{stats:?}");
+    }
+}

@@ -1,0 +1,333 @@
+//! The triangle as the constructor sees it: validation and every constant
+//! of the robust map, computed in the wide scalar `W = T::Wide` (`f64` for
+//! `f32`) and rounded to `T` afterwards.
+//!
+//! Every decision (degenerate? nearly antipodal?) is taken in `W`, so an
+//! `f32` triangle is accepted exactly when the `f64` constructor accepts the
+//! same values; what `T` cannot hold (a solid angle or constant outside its
+//! range) is rejected after rounding, with [`WarpError::Unrepresentable`].
+
+use super::positive;
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::shapes::wide::{narrow3, unit_vector, widen3};
+use crate::vector::Vec3;
+
+/// `|v|²`.
+#[inline]
+pub(super) fn norm2<T: Real>(v: &Vec3<T>) -> T {
+    v.dot(v)
+}
+
+/// The unit tangent `[y|x]` at the unit vector `x` pointing along the great
+/// arc towards `y`, and `|y − (x·y)x| = sin∠(x, y)`.
+///
+/// `y − (x·y)x` cancels when `y ≈ ±x`; it is computed as
+/// `(y − x) + (|y − x|²/2)·x` when `x·y ≥ 0` and as
+/// `(y + x) − (|y + x|²/2)·x` otherwise (identities for unit vectors, since
+/// `1 − x·y = |y − x|²/2` and `1 + x·y = |y + x|²/2`): the differences are
+/// exact or nearly so, and the result has full relative accuracy.
+pub(super) fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
+    let two = T::from_i64(2);
+    let t = if x.dot(y) >= T::zero() {
+        let e = y.sub(x);
+        e.add(&x.scale(&(norm2(&e) / &two)))
+    } else {
+        let e = y.add(x);
+        e.sub(&x.scale(&(norm2(&e) / &two)))
+    };
+    let len = norm2(&t).sqrt();
+    if !positive(&len) || !len.is_finite() {
+        return None;
+    }
+    Some((Vec3::new(t.x / &len, t.y / &len, t.z / &len), len))
+}
+
+/// The typed errors of the constructor.
+pub(super) mod reject {
+    use crate::error::WarpError;
+    pub const ZERO_VERTEX: WarpError = WarpError::Degenerate {
+        what: "zero vertex direction",
+    };
+    pub const COINCIDENT: WarpError = WarpError::Degenerate {
+        what: "coincident vertices",
+    };
+    pub const ON_CIRCLE: WarpError = WarpError::Degenerate {
+        what: "vertices on one great circle (or collinear)",
+    };
+    pub const ANTIPODAL: WarpError = WarpError::Degenerate {
+        what: "nearly antipodal vertices: the great arc between them is not determined",
+    };
+    pub const UNDERFLOW: WarpError = WarpError::Degenerate {
+        what: "solid angle underflows",
+    };
+    pub const OUT_OF_RANGE: WarpError = WarpError::Unrepresentable {
+        what: "a constant of the spherical triangle's map (solid angle, density or a sub-triangle term) is outside the scalar type's range",
+    };
+}
+
+/// How close to antipodal two vertices may be: `|X + Y| = 2 cos(∠XY/2)`
+/// must exceed `64 · 2^(−p/2)` (`p` the wide type's precision; `≈ 5.8e-7`
+/// in `f64`). Closer, the plane of the arc XY (normal `X × Y`, of length
+/// `≈ |X + Y|`) is known only to `u/|X + Y|`, more than the on-shape
+/// tolerance `2^(−p/2)` of [`Warp::inverse`](crate::warp::Warp::inverse): the map's samples and
+/// the membership test would follow two different arcs.
+fn antipodal_limit<W: Real>() -> W {
+    W::from_i64(64) * &W::exp2i(-((W::precision() / 2) as i32))
+}
+
+/// The validated triangle in `W`: unit vertices, chords, orientation, the
+/// arc AC and the constants shared by the map, the inverse and the recipe.
+#[derive(Clone, Debug)]
+pub(super) struct Core<W> {
+    pub a: Vec3<W>,
+    pub b: Vec3<W>,
+    pub c: Vec3<W>,
+    /// B − A, C − B, A − C.
+    pub ab: Vec3<W>,
+    pub bc: Vec3<W>,
+    pub ca: Vec3<W>,
+    /// det(A, B, C) > 0.
+    pub ccw: bool,
+    /// ±1: the sign of det(A, B, C).
+    pub sign: W,
+    /// [C|A] and sin b.
+    pub c_perp: Vec3<W>,
+    pub sin_b: W,
+    /// `d = sin c sin α = |det| / sin b`.
+    pub d: W,
+    /// `1 + cos c = |A + B|²/2`, `sin c cos α = (B − A)·[C|A]`.
+    pub k1a: W,
+    pub ka: W,
+    /// Ω (Van Oosterom–Strackee).
+    pub omega: W,
+}
+
+impl<W: Real> Core<W> {
+    /// Validates the (finite) vertex directions `a`, `b`, `c` and computes
+    /// the shared constants.
+    pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
+        let a = unit_vector(a).ok_or(reject::ZERO_VERTEX)?;
+        let b = unit_vector(b).ok_or(reject::ZERO_VERTEX)?;
+        let c = unit_vector(c).ok_or(reject::ZERO_VERTEX)?;
+        let zero = W::zero();
+        let two = W::from_i64(2);
+
+        let ab = b.sub(&a);
+        let bc = c.sub(&b);
+        let ca = a.sub(&c);
+        let (q_ab, q_bc, q_ca) = (norm2(&ab), norm2(&bc), norm2(&ca));
+        if q_ab == zero || q_bc == zero || q_ca == zero {
+            return Err(reject::COINCIDENT);
+        }
+        // det(A, B, C) = V·(e₁ × e₂) from the vertex V opposite the longest
+        // chord (e₁, e₂ the two shortest chords): the cross product of short
+        // difference vectors keeps relative accuracy for small triangles.
+        // The criterion |det| ≤ 256·u·ℓ₁ℓ₂ compares squares: det² ≤ (256u)²ℓ₁²ℓ₂².
+        // The two shortest chords (for the criterion below).
+        let (q1, q2) = if q_bc >= q_ab && q_bc >= q_ca {
+            (&q_ab, &q_ca)
+        } else if q_ca >= q_ab {
+            (&q_ab, &q_bc)
+        } else {
+            (&q_bc, &q_ca)
+        };
+        // The pair (X, Y) with the smallest |X + Y| (nearest to antipodal)
+        // and the third vertex Z: det(A, B, C) is unchanged when one column
+        // is added to another, so det = (X + Y)·(…) with the short, exactly
+        // computed sum X + Y, accurate to u|X + Y| where the chords' form
+        // cancels (an arc near π); and 1 + A·B + B·C + C·A =
+        // |X + Y|²/2 + Z·(X + Y), two small accurate terms.
+        let (s_ab, s_bc, s_ca) = (a.add(&b), b.add(&c), c.add(&a));
+        let (p_ab, p_bc, p_ca) = (norm2(&s_ab), norm2(&s_bc), norm2(&s_ca));
+        let k1a = p_ab.clone() / &two;
+        let (sum, q_sum, third, pair) = if p_ca <= p_ab && p_ca <= p_bc {
+            (s_ca, p_ca, &b, 0)
+        } else if p_ab <= p_bc {
+            (s_ab, p_ab, &c, 1)
+        } else {
+            (s_bc, p_bc, &a, 2)
+        };
+        let det = if q_sum < q1.clone() * q2 {
+            match pair {
+                0 => sum.dot(&b.cross(&c)),
+                1 => sum.dot(&b.cross(&c)),
+                _ => a.dot(&b.cross(&sum)),
+            }
+        } else if q_bc >= q_ab && q_bc >= q_ca {
+            a.dot(&ab.cross(&ca.neg()))
+        } else if q_ca >= q_ab {
+            b.dot(&bc.cross(&ab.neg()))
+        } else {
+            c.dot(&ca.cross(&bc.neg()))
+        };
+        let k = W::from_i64(256) * &W::unit_roundoff();
+        if det.is_nan() || det.square() <= k.square() * q1 * q2 {
+            return Err(reject::ON_CIRCLE);
+        }
+        // Nearly antipodal pairs.
+        let limit = antipodal_limit::<W>().square();
+        if q_sum <= limit {
+            return Err(reject::ANTIPODAL);
+        }
+        let den = q_sum / &two + &third.dot(&sum);
+        let ccw = det > zero;
+        let abs_det = det.abs();
+        let (c_perp, sin_b) = tangent(&a, &c).ok_or(reject::ANTIPODAL)?;
+        let d = abs_det.clone() / &sin_b;
+        let ka = ab.dot(&c_perp);
+        let omega = abs_det.atan2(&den) * &two;
+        if !positive(&omega) || !positive(&d) || !d.is_finite() {
+            return Err(reject::UNDERFLOW);
+        }
+        let sign = if ccw { W::one() } else { -W::one() };
+        Ok(Core {
+            a,
+            b,
+            c,
+            ab,
+            bc,
+            ca,
+            ccw,
+            sign,
+            c_perp,
+            sin_b,
+            d,
+            k1a,
+            ka,
+            omega,
+        })
+    }
+
+    /// The anchor of the map at A (`from_a = true`) or C.
+    pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
+        if from_a {
+            Anchor::new(&self.a, &self.c_perp, &self.b, &self.d, &self.sign)
+        } else {
+            let (along, _) = tangent(&self.c, &self.a).ok_or(reject::ANTIPODAL)?;
+            Anchor::new(&self.c, &along, &self.b, &self.d, &-self.sign.clone())
+        }
+    }
+
+    /// The inward unit normals of the edge planes AB, BC, CA.
+    pub fn normals(&self) -> Result<[Vec3<W>; 3], WarpError> {
+        let inward = |v: &Vec3<W>, e: &Vec3<W>| {
+            unit_vector(&v.cross(e).scale(&self.sign)).ok_or(reject::ON_CIRCLE)
+        };
+        Ok([
+            inward(&self.a, &self.ab)?,
+            inward(&self.b, &self.bc)?,
+            inward(&self.c, &self.ca)?,
+        ])
+    }
+}
+
+/// The constants of the robust map measured from one end V of the arc AC
+/// (V = A for u ≤ 1/2, V = C for u > 1/2, W the other end), all divided by
+/// `d = sin c sin α = |det(A, B, C)| / sin b` (the same for both ends) so
+/// that they stay O(1) for tiny triangles.
+#[derive(Clone, Debug)]
+pub(super) struct Anchor<T> {
+    /// V.
+    pub vertex: Vec3<T>,
+    /// `[W|V]`: the unit tangent at V along the arc towards W.
+    pub along: Vec3<T>,
+    /// `(1 + cos∠VB)/d`.
+    pub k1_d: T,
+    /// `sin∠VB · cos(angle at V)/d`.
+    pub k_d: T,
+    /// `1/sin²(∠VB/2) = 4/|V − B|²`.
+    pub inv_s2: T,
+    /// V − B and V + B.
+    pub v_minus_b: Vec3<T>,
+    pub v_plus_b: Vec3<T>,
+    /// `[V|B]`: the unit tangent at B towards V.
+    pub t_b: Vec3<T>,
+    /// The unit tangent at B perpendicular to `t_b`, towards W.
+    pub n_b: Vec3<T>,
+}
+
+impl<W: Real> Anchor<W> {
+    /// The constants for the end `vertex` of the arc, `along` the unit
+    /// tangent there towards the other end; `sign` is the sign of
+    /// det(A, B, C) as ±1 for V = A (its opposite for V = C), `d` the
+    /// common |det|/sin b.
+    fn new(
+        vertex: &Vec3<W>,
+        along: &Vec3<W>,
+        b: &Vec3<W>,
+        d: &W,
+        sign: &W,
+    ) -> Result<Self, WarpError> {
+        let two = W::from_i64(2);
+        let (t_b, _) = tangent(b, vertex).ok_or(reject::ANTIPODAL)?;
+        let v_minus_b = vertex.sub(b);
+        let v_plus_b = vertex.add(b);
+        let s2 = norm2(&v_minus_b) / W::from_i64(4);
+        // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
+        let k = v_minus_b.neg().dot(along);
+        let k1 = norm2(&v_plus_b) / &two;
+        // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C). t_b ⊥ B,
+        // both unit: the cross product is a unit vector up to rounding.
+        let n_b = t_b.cross(b).scale(sign);
+        let inv_d = W::one() / d;
+        Ok(Anchor {
+            vertex: vertex.clone(),
+            along: along.clone(),
+            k1_d: k1 * &inv_d,
+            k_d: k * &inv_d,
+            inv_s2: W::one() / &s2,
+            v_minus_b,
+            v_plus_b,
+            t_b,
+            n_b,
+        })
+    }
+
+    /// The anchor rounded to `T`; `None` if a constant leaves `T`'s range.
+    pub fn narrow<T: Real<Wide = W>>(&self) -> Option<Anchor<T>> {
+        let out = Anchor {
+            vertex: narrow3::<T>(&self.vertex),
+            along: narrow3::<T>(&self.along),
+            k1_d: T::narrow(&self.k1_d),
+            k_d: T::narrow(&self.k_d),
+            inv_s2: T::narrow(&self.inv_s2),
+            v_minus_b: narrow3::<T>(&self.v_minus_b),
+            v_plus_b: narrow3::<T>(&self.v_plus_b),
+            t_b: narrow3::<T>(&self.t_b),
+            n_b: narrow3::<T>(&self.n_b),
+        };
+        let finite = out.k1_d.is_finite()
+            && out.k_d.is_finite()
+            && out.inv_s2.is_finite()
+            && positive(&out.k1_d)
+            && out.v_minus_b.max_abs() > T::zero();
+        finite.then_some(out)
+    }
+}
+
+/// The solid angle Ω and density 1/Ω rounded to `T`, or the reason `T`
+/// cannot hold them.
+pub(super) fn omega_in<T: Real>(core: &Core<T::Wide>) -> Result<(T, T), WarpError> {
+    let omega = T::narrow(&core.omega);
+    let inv_omega = T::narrow(&(<T::Wide as Real>::one() / &core.omega));
+    if !positive(&omega) || !positive(&inv_omega) || !inv_omega.is_finite() {
+        return Err(reject::OUT_OF_RANGE);
+    }
+    Ok((omega, inv_omega))
+}
+
+/// The validated core of the triangle with the (finite) vertex directions
+/// `a`, `b`, `c` given in `T`.
+pub(super) fn core_of<T: Real>(
+    a: &Vec3<T>,
+    b: &Vec3<T>,
+    c: &Vec3<T>,
+) -> Result<Core<T::Wide>, WarpError> {
+    for (v, what) in [(a, "vertex A"), (b, "vertex B"), (c, "vertex C")] {
+        if !v.is_finite() {
+            return Err(WarpError::NonFinite { what });
+        }
+    }
+    Core::new(&widen3(a), &widen3(b), &widen3(c))
+}

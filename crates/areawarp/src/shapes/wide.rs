@@ -1,0 +1,120 @@
+//! Moving vectors between a scalar `T` and its wide type [`Real::Wide`], and
+//! the cheap normalization the light shapes' constructors use.
+//!
+//! The spherical lights take every decision of their constructors (is the
+//! shape degenerate?) and compute every constant that cancellation would
+//! spoil in `T::Wide` (`f64` for `f32`), then round the constants to `T`
+//! for the per-sample path. An `f32` shape is thereby accepted exactly when
+//! the `f64` constructor accepts the same values, and its constants are
+//! correctly rounded.
+
+use crate::real::Real;
+use crate::vector::Vec3;
+
+/// `v` in `T::Wide` (exact).
+#[inline]
+pub(crate) fn widen3<T: Real>(v: &Vec3<T>) -> Vec3<T::Wide> {
+    Vec3::new(v.x.widen(), v.y.widen(), v.z.widen())
+}
+
+/// `v` rounded to `T` component by component.
+#[inline]
+pub(crate) fn narrow3<T: Real>(v: &Vec3<T::Wide>) -> Vec3<T> {
+    Vec3::new(T::narrow(&v.x), T::narrow(&v.y), T::narrow(&v.z))
+}
+
+/// `⌊log₂ |x|⌋` of a finite non-zero `f64` (from the bits for normal
+/// numbers, no libm call); `0` for zero or non-finite `x`.
+#[inline]
+pub(crate) fn floor_log2(x: f64) -> i32 {
+    let a = x.abs();
+    if !(a > 0.0) || !a.is_finite() {
+        return 0;
+    }
+    if a >= f64::MIN_POSITIVE {
+        ((a.to_bits() >> 52) as i32) - 1023
+    } else {
+        a.log2().floor() as i32
+    }
+}
+
+/// `v / |v|`, `None` for the zero vector (or a non-finite one).
+///
+/// One square root and three divisions when `|v|²` is neither tiny nor
+/// huge (always, for `f32` data widened to `f64`); otherwise `v` is first
+/// divided by its largest component, so that the result is free of overflow
+/// and underflow for every finite non-zero `v`. Dividing by the norm (rather
+/// than multiplying by its reciprocal) keeps axis-aligned vectors exact.
+#[inline]
+pub(crate) fn unit_vector<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
+    let n2 = v.dot(v);
+    let tiny = T::unit_roundoff().powi(4);
+    if n2 > tiny && n2.is_finite() {
+        let n = n2.sqrt();
+        return Some(Vec3::new(
+            v.x.clone() / &n,
+            v.y.clone() / &n,
+            v.z.clone() / &n,
+        ));
+    }
+    let m = v.max_abs();
+    if !(m > T::zero()) || !m.is_finite() {
+        return None;
+    }
+    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
+    let n = w.dot(&w).sqrt();
+    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unit_vector_is_exact_on_axes_and_scale_free() {
+        for k in [1e-300, 1e-160, 1e-30, 1.0, 3.0, 1e30, 1e160, 1e300] {
+            assert_eq!(
+                unit_vector(&Vec3::new(k, 0.0, 0.0)),
+                Some(Vec3::new(1.0, 0.0, 0.0))
+            );
+            let u = unit_vector(&Vec3::new(k, 2.0 * k, -2.0 * k)).unwrap();
+            let want = Vec3::new(1.0 / 3.0, 2.0 / 3.0, -2.0 / 3.0);
+            assert!(u.sub(&want).max_abs() <= 2.0 * f64::EPSILON, "{k}: {u:?}");
+        }
+        assert_eq!(unit_vector(&Vec3::<f64>::zero()), None);
+        assert_eq!(unit_vector(&Vec3::new(f64::INFINITY, 0.0, 0.0)), None);
+        let s = unit_vector(&Vec3::new(f64::from_bits(1), 0.0, f64::from_bits(1))).unwrap();
+        assert!((s.x - core::f64::consts::FRAC_1_SQRT_2).abs() <= f64::EPSILON);
+    }
+
+    #[test]
+    fn floor_log2_of_normal_and_subnormal_numbers() {
+        for (x, e) in [
+            (1.0, 0),
+            (1.5, 0),
+            (2.0, 1),
+            (0.75, -1),
+            (3e-320, -1062),
+            (-8.0, 3),
+        ] {
+            assert_eq!(floor_log2(x), e, "{x}");
+        }
+        assert_eq!(floor_log2(0.0), 0);
+        assert_eq!(f64::exp2i(-1074), f64::from_bits(1));
+        assert_eq!(f32::exp2i(-126), f32::MIN_POSITIVE);
+        assert_eq!(f64::exp2i(1023), 2f64.powi(1023));
+        assert_eq!(f32::exp2i(-149), f32::from_bits(1));
+    }
+
+    #[test]
+    fn widen_and_narrow() {
+        let v = Vec3::new(0.1f32, -3.0, 1e-40);
+        let w = widen3(&v);
+        assert_eq!(w.x, f64::from(0.1f32));
+        assert_eq!(narrow3::<f32>(&w), v);
+        assert_eq!(
+            narrow3::<f32>(&Vec3::new(0.1, 1e300, 1e-300)).y,
+            f32::INFINITY
+        );
+    }
+}
