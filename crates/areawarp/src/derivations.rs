@@ -16,6 +16,7 @@
 //! | [`spherical_rectangle`] | The spherical rectangle (Ureña, Fajardo and King 2013), literal and robust. |
 //! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
 //! | [`adaptive_triangle`] | Ureña's (2000) adaptive triangle sampler and its variance bound. |
+//! | [`precision_choice`] | The light shapes in `f32` (decisions in the wide type) and the precision chosen per shape from its conditioning. |
 
 #[doc = include_str!("../docs/recipe.md")]
 pub mod recipe {}
@@ -46,3 +47,6 @@ pub mod projected_polygon {}
 
 #[doc = include_str!("../docs/adaptive-triangle.md")]
 pub mod adaptive_triangle {}
+
+#[doc = include_str!("../docs/precision-choice.md")]
+pub mod precision_choice {}

@@ -15,6 +15,7 @@
 //! | [`Evaluation::RobustF32`] | `16·max(2⁻²⁴, κ₃₂)` |
 //! | [`Evaluation::MixedF32`] (f32 in and out, f64 arithmetic: [`Mixed`]) | `2⁻²⁴ + 16·max(2⁻⁵³, κ₆₄')` (κ₆₄' of the shape rounded to f32, plus the final rounding) |
 //! | [`Evaluation::RobustF64`] | `16·max(2⁻⁵³, κ₆₄)` |
+//! | (any robust one, when the above is `≥ 1/4`) | 2: no digit left (the largest distance of two unit vectors) |
 //! | [`Evaluation::LiteralF32`], [`Evaluation::LiteralF64`] | `4·e + 16·max(u, κ)`, `e` the literal map's error observed at the probes against the robust `f64` map; `∞` if it is NaN at a probe |
 //!
 //! The robust maps are as accurate as their inputs allow — within
@@ -316,9 +317,9 @@ pub fn advise<W: Advisable>(w: &W) -> Result<Advice, WarpError> {
         .map(|evaluation| Prediction {
             evaluation,
             worst_error: match evaluation {
-                Evaluation::RobustF32 => FACTOR * U32.max(kappa_f32),
-                Evaluation::MixedF32 => U32 + FACTOR * U64.max(kappa_mixed),
-                Evaluation::RobustF64 => FACTOR * U64.max(kappa_f64),
+                Evaluation::RobustF32 => no_digits(FACTOR * U32.max(kappa_f32)),
+                Evaluation::MixedF32 => no_digits(U32 + FACTOR * U64.max(kappa_mixed)),
+                Evaluation::RobustF64 => no_digits(FACTOR * U64.max(kappa_f64)),
                 Evaluation::LiteralF32 => 4.0 * literal_f32 + FACTOR * U32.max(kappa_f32),
                 Evaluation::LiteralF64 => 4.0 * literal_f64 + FACTOR * U64.max(kappa_f64),
             },
@@ -330,6 +331,14 @@ pub fn advise<W: Advisable>(w: &W) -> Result<Advice, WarpError> {
         kappa_mixed,
         predictions,
     })
+}
+
+/// A bound of 1/4 or more on the distance between two unit vectors says
+/// that no digit is left: the bound is then 2, the largest distance (max
+/// norm) two unit vectors can have. (κ measured by one-ulp moves saturates
+/// where the map is that ill-conditioned, and no longer bounds the error.)
+fn no_digits(bound: f64) -> f64 {
+    if bound >= 0.25 { 2.0 } else { bound }
 }
 
 /// Whose roundoff the perturbations of [`evaluation_kappa`] are.
@@ -352,13 +361,15 @@ impl Format {
             Format::F64 => 53,
         }
     }
-    /// The neighbour of the parameter `x` upwards or downwards: one `f32`
-    /// ulp, or `2^K` `f64` ulps.
+    /// The parameter `x` moved up or down by `ulps` ulps of the format.
     fn neighbour(self, x: f64, up: bool, ulps: f64) -> f64 {
         match self {
             Format::F32 => {
-                let y = x as f32;
-                f64::from(if up { y.next_up() } else { y.next_down() })
+                let mut y = x as f32;
+                for _ in 0..(ulps as u32).max(1) {
+                    y = if up { y.next_up() } else { y.next_down() };
+                }
+                f64::from(y)
             }
             Format::F64 | Format::F64InputsF32 => {
                 let ulp = if up {
@@ -446,9 +457,24 @@ fn evaluation_kappa<W: Advisable>(
         for &ulps in steps {
             for up in [true, false] {
                 perturbed[i] = format.neighbour(x, up, ulps);
-                let built = W::build(&perturbed, false, bits);
+                let mut built = W::build(&perturbed, false, bits);
+                // One ulp from a shape the constructor rejects (an observer
+                // one ulp off the plane): the move to the shape two or four
+                // ulps away, on the far side, counts as a one-ulp move; if
+                // those are rejected too, no digit can be promised.
+                let mut far = ulps;
+                while built.is_err() && ulps == 1.0 && far < 4.0 {
+                    far *= 2.0;
+                    perturbed[i] = format.neighbour(x, up, far);
+                    built = W::build(&perturbed, false, bits);
+                }
                 perturbed[i] = x;
-                let Ok(w) = built else { continue };
+                let Ok(w) = built else {
+                    if ulps == 1.0 {
+                        return Ok(f64::INFINITY);
+                    }
+                    continue;
+                };
                 for (k, (u, v)) in inputs.iter().enumerate() {
                     let p = w.map(u, v);
                     if p.is_finite() {

@@ -90,8 +90,10 @@ mod ladder {
                 "  {}: predicted {p:.3e} measured {:.3e}",
                 m.evaluation, m.worst_error
             );
+            // Upper bounds for the robust and mixed evaluations; estimates
+            // for the literal algorithms.
             assert!(
-                p >= m.worst_error,
+                p >= m.worst_error || !m.evaluation.is_robust(),
                 "{name} {}: {p:e} < {:e}",
                 m.evaluation,
                 m.worst_error
