@@ -200,6 +200,56 @@ fn bad_lines_get_an_error_line_and_a_failing_status() {
     }
 }
 
+/// Runs `areawarp eval` on raw bytes: (stdout, exit code).
+fn run_eval_bytes(args: &[&str], input: &[u8]) -> (String, Option<i32>) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_areawarp"))
+        .arg("eval")
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("run areawarp");
+    child.stdin.take().unwrap().write_all(input).unwrap();
+    let out = child.wait_with_output().unwrap();
+    (String::from_utf8(out.stdout).unwrap(), out.status.code())
+}
+
+#[test]
+fn a_line_of_invalid_utf8_is_one_bad_line() {
+    // Line 2 has a stray 0xFF inside its numbers, line 4 is Latin-1 (é) in
+    // a comment-less word, line 5 starts with an invalid byte; the lines
+    // after each are still evaluated, CRLF endings are accepted.
+    let mut input = Vec::new();
+    input.extend_from_slice(b"hemisphere 0.25 0.5\n");
+    input.extend_from_slice(b"sphere 0.5 \xFF0.5\n");
+    input.extend_from_slice(b"disk 0.5 0\r\n");
+    input.extend_from_slice(b"caf\xE9 1 2\n");
+    input.extend_from_slice(b"\x80\n");
+    input.extend_from_slice(b"concentric-disk 1 0.5");
+    let (out, code) = run_eval_bytes(&["--precision", "f64"], &input);
+    assert_eq!(code, Some(1), "a bad line fails the run at its end: {out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 6, "{out}");
+    assert!(lines[0].starts_with("hemisphere ") && !lines[0].contains("error"));
+    assert_eq!(
+        lines[1],
+        "sphere error: line 2 is not valid UTF-8 (byte 0xFF at column 12)"
+    );
+    assert!(lines[2].starts_with("disk ") && !lines[2].contains("error"));
+    assert_eq!(
+        lines[3],
+        "caf\u{FFFD} error: line 4 is not valid UTF-8 (byte 0xE9 at column 4)"
+    );
+    assert_eq!(
+        lines[4],
+        "\u{FFFD} error: line 5 is not valid UTF-8 (byte 0x80 at column 1)"
+    );
+    assert!(lines[5].starts_with("concentric-disk ") && !lines[5].contains("error"));
+    // Valid input alone still succeeds.
+    let (_, code) = run_eval_bytes(&[], b"disk 0.5 0\r\nsphere 0 0\n");
+    assert_eq!(code, Some(0));
+}
+
 #[test]
 fn inverse_round_trips_through_the_cli() {
     let (out, ok) = run_eval(&["--precision", "f64"], "sphere 0.25 0.75\ndisk 0.3 0.6\n");

@@ -1,8 +1,10 @@
 //! `areawarp eval`: one map evaluation per input line.
 //!
 //! Input lines are `MAP PARAMS… u v` (or `MAP PARAMS… POINT…` with
-//! `--inverse`); `#` lines and blank lines are skipped. Numbers are parsed
-//! directly in the chosen precision. Outputs are printed with enough digits
+//! `--inverse`); `#` lines and blank lines are skipped. Every line is
+//! answered on its own: a line that is not valid UTF-8 gets an error line
+//! with its line number, and the lines after it are still evaluated.
+//! Numbers are parsed directly in the chosen precision. Outputs are printed with enough digits
 //! to read back to the same value in that precision.
 
 use areawarp::real::Real;
@@ -62,20 +64,34 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut failed = false;
-    for line in input.lines() {
-        let line = match line {
-            Ok(l) => l,
+    // Bytes, not `String` lines: a line that is not UTF-8 is one bad line
+    // (answered with an error line), not the end of the input.
+    let mut input = input;
+    let mut buf = Vec::new();
+    let mut line_number = 0usize;
+    loop {
+        buf.clear();
+        match input.read_until(b'\n', &mut buf) {
+            Ok(0) => break,
+            Ok(_) => {}
             Err(e) => {
                 eprintln!("error: reading input: {e}");
                 return ExitCode::from(2);
             }
-        };
-        let answer = match run(&line, &opts) {
-            None => continue,
-            Some(Ok(s)) => s,
-            Some(Err(s)) => {
+        }
+        line_number += 1;
+        let answer = match std::str::from_utf8(strip_line_end(&buf)) {
+            Ok(line) => match run(line, &opts) {
+                None => continue,
+                Some(Ok(s)) => s,
+                Some(Err(s)) => {
+                    failed = true;
+                    s
+                }
+            },
+            Err(e) => {
                 failed = true;
-                s
+                not_utf8_line(&buf, line_number, &e)
             }
         };
         if writeln!(out, "{answer}").is_err() {
@@ -87,6 +103,27 @@ pub fn main(precision: &str, opts: Options, file: Option<&Path>) -> ExitCode {
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// The line without its `\n` or `\r\n` ending (as [`BufRead::lines`]).
+fn strip_line_end(line: &[u8]) -> &[u8] {
+    let line = line.strip_suffix(b"\n").unwrap_or(line);
+    line.strip_suffix(b"\r").unwrap_or(line)
+}
+
+/// The error line for input line `line_number` (1-based), which is not
+/// UTF-8: `MAP error: line N is not valid UTF-8 (byte 0xFF at column C)`,
+/// MAP being the line's first word (invalid bytes shown as U+FFFD, `?` for
+/// a line with no word).
+fn not_utf8_line(bytes: &[u8], line_number: usize, e: &std::str::Utf8Error) -> String {
+    let text = String::from_utf8_lossy(strip_line_end(bytes));
+    let name = text.split_whitespace().next().unwrap_or("?");
+    let at = e.valid_up_to();
+    format!(
+        "{name} error: line {line_number} is not valid UTF-8 (byte 0x{:02X} at column {})",
+        bytes[at],
+        at + 1
+    )
 }
 
 fn mpfr_evaluator(bits: &str) -> Option<LineEvaluator> {

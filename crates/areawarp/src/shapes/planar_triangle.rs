@@ -39,6 +39,7 @@ fn segment_distance<T: Real>(p: &Vec3<T>, p0: &Vec3<T>, dir: &Vec3<T>, len: &T) 
 
 /// `v + (w1·e1 − w2·e2)`: the small terms are combined first, so that the
 /// only rounding at the scale of the coordinates is the final addition.
+#[inline]
 fn anchored<T: Real>(v: &Vec3<T>, w1: &T, e1: &Vec3<T>, w2: &T, e2: &Vec3<T>) -> Vec3<T> {
     v.add(&e1.scale(w1).sub(&e2.scale(w2)))
 }
@@ -300,6 +301,7 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
     /// ψ(u, v) of eq. (1.20), evaluated from the vertex of largest
     /// barycentric weight (see the type's docs). `u` and `v` are clamped to
     /// `[0, 1]` (NaN counts as 0).
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let s = clamp01(u).sqrt();
         let t = clamp01(v);

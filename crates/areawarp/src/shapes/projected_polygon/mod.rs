@@ -10,7 +10,7 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{Arc, Built, clip, partition, prepare, unit_direction};
+use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
 use self::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
@@ -19,6 +19,7 @@ use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
+use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
@@ -184,8 +185,11 @@ pub struct ProjectedPolygon<T> {
     pairs: Vec<Pair<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
-    /// Fitted inverse marginal per active lune, from the start and the end.
-    fits: Vec<[SideFit<T>; 2]>,
+    /// Fitted inverse marginal per active lune, from the start and the end,
+    /// computed the first time a sample falls in the lune ([`Self::fit`]):
+    /// most of the construction's cost otherwise, and a renderer that builds
+    /// the sampler for a few samples pays only for the lunes it visits.
+    fits: Vec<OnceLock<[SideFit<T>; 2]>>,
     measure: T,
     solid_angle: T,
     two_pi: T,
@@ -351,10 +355,10 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             active,
-            fits,
             measure,
             solid_angle,
         } = partition(arcs, solid_angle)?;
+        let fits = active.iter().map(|_| OnceLock::new()).collect();
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -438,12 +442,17 @@ impl<T: Real> ProjectedPolygon<T> {
         };
         let lune = &self.lunes[self.active[k]];
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
-        if y <= self.fits[k][0].fh {
+        if y <= self.fit(k)[0].fh {
             (k, Side::Start, y)
         } else {
             let y_end = ((t_rev - &lune.cum_after) / &lune.area).clamp(&zero, &one);
             (k, Side::End, y_end)
         }
+    }
+
+    /// The fitted inverse marginal of active lune `k` (fitted on first use).
+    fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
+        self.fits[k].get_or_init(|| fit_lune(&self.lunes[self.active[k]], &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
@@ -458,7 +467,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// x = F⁻¹(y) from `side` of active lune `k`, with the configured
     /// inversion, in the transformed half-marginal G of [`SideFit`].
     fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
-        let fit = &self.fits[k][side as usize];
+        let fit = &self.fit(k)[side as usize];
         let cdf = fit.half(self.lune_cdf(self.active[k], side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
