@@ -389,10 +389,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     };
     // Stable: each lune's arcs stay in boundary order.
     members.sort_by_key(|&(k, _)| k);
-    // (sin, cos) of every meridian, shared by the lunes on either side; the
-    // last lune ends one turn after the first meridian.
-    let mut meridian_sc: Vec<(T, T)> = bounds.iter().map(|b| b.sin_cos()).collect();
-    meridian_sc.push(end_of(m - 1).sin_cos());
+    // (sin, cos) of each meridian, computed once and shared by the lunes on
+    // either side (the last lune ends one turn after the first meridian).
+    let mut start_sc = bounds[0].sin_cos();
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(members.len());
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(members.len());
@@ -403,8 +402,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         let start = bounds[k].clone();
         let end_az = end_of(k);
         let w = width(k);
-        let (sin_a, cos_a) = meridian_sc[k].clone();
-        let (sin_b, cos_b) = meridian_sc[k + 1].clone();
+        let (sin_a, cos_a) = start_sc;
+        let (sin_b, cos_b) = end_az.sin_cos();
+        start_sc = (sin_b.clone(), cos_b.clone());
         lune_edges.clear();
         while next_member < members.len() && members[next_member].0 == k {
             let ai = members[next_member].1;
@@ -514,6 +514,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             end: pairs.len(),
             n_edges,
             active: None,
+            fit: std::sync::OnceLock::new(),
         };
         if n_edges > 0 {
             // From the start only: the end's sum (the same area) is

@@ -19,7 +19,6 @@ use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
-use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
@@ -185,11 +184,6 @@ pub struct ProjectedPolygon<T> {
     pairs: Vec<Pair<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
-    /// Fitted inverse marginal per active lune, from the start and the end,
-    /// computed the first time a sample falls in the lune ([`Self::fit`]):
-    /// most of the construction's cost otherwise, and a renderer that builds
-    /// the sampler for a few samples pays only for the lunes it visits.
-    fits: Vec<OnceLock<[SideFit<T>; 2]>>,
     measure: T,
     solid_angle: T,
     two_pi: T,
@@ -358,7 +352,6 @@ impl<T: Real> ProjectedPolygon<T> {
             measure,
             solid_angle,
         } = partition(arcs, solid_angle)?;
-        let fits = active.iter().map(|_| OnceLock::new()).collect();
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -368,7 +361,6 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             active,
-            fits,
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),
@@ -450,9 +442,14 @@ impl<T: Real> ProjectedPolygon<T> {
         }
     }
 
-    /// The fitted inverse marginal of active lune `k` (fitted on first use).
+    /// The fitted inverse marginal of active lune `k`, from the start and
+    /// the end, computed the first time a sample falls in the lune: most of
+    /// the construction's cost otherwise, and a renderer that builds the
+    /// sampler for a few samples pays only for the lunes it visits.
     fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
-        self.fits[k].get_or_init(|| fit_lune(&self.lunes[self.active[k]], &self.edges, &self.pairs))
+        let lune = &self.lunes[self.active[k]];
+        lune.fit
+            .get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
