@@ -9,10 +9,12 @@
 //! | planar triangle | `PlanarTriangle`: √u barycentrics from the heaviest vertex | b₀ = 1 − √u, b₁ = v√u, p = b₀p₀ + b₁p₁ + (1 − b₀ − b₁)p₂ |
 //! | concentric disk | `ConcentricDisk` | Shirley–Chiu, θ = π/4·(b/a) or π/2 − π/4·(a/b) |
 //!
-//! Each measurement maps a fixed batch of 4096 `(u, v)` points (edges
-//! included) and sums the coordinates, so criterion's time per batch / 4096
-//! is the throughput cost of one sample. The areawarp maps are called by
-//! value on `f32`/`f64` data exactly as a renderer would.
+//! Each measurement samples a fixed batch of 4096 `(u, v)` points (edges
+//! included) and sums the coordinates and the density, so criterion's time
+//! per batch / 4096 is the throughput cost of one sample *with its pdf*.
+//! The areawarp warps are called by value, `warp.sample_uv([u, v])`, on
+//! `f32`/`f64` data exactly as a renderer would; the baselines compute
+//! their pdf the way pbrt does (cos θ/π, 1/4π, 1/area, 1/π).
 //!
 //! ```text
 //! cargo bench -p areawarp --bench simple_warps -- --warm-up-time 1 --measurement-time 2
@@ -79,6 +81,28 @@ macro_rules! baselines {
                 [x, y, z]
             }
 
+            /// The samples with their pdf, as a renderer uses them.
+            #[inline]
+            pub fn cosine_hemisphere_pdf(u: $t, v: $t) -> [$t; 4] {
+                let [x, y, z] = cosine_hemisphere(u, v);
+                [x, y, z, z * std::$t::consts::FRAC_1_PI]
+            }
+            #[inline]
+            pub fn uniform_sphere_pdf(u: $t, v: $t) -> [$t; 4] {
+                let [x, y, z] = uniform_sphere(u, v);
+                [x, y, z, 0.25 * std::$t::consts::FRAC_1_PI]
+            }
+            #[inline]
+            pub fn triangle_pdf(p: &[[$t; 3]; 3], inv_area: $t, u: $t, v: $t) -> [$t; 4] {
+                let [x, y, z] = triangle(p, u, v);
+                [x, y, z, inv_area]
+            }
+            #[inline]
+            pub fn concentric_disk_pdf(u: $t, v: $t) -> [$t; 3] {
+                let [x, y] = concentric_disk(u, v);
+                [x, y, std::$t::consts::FRAC_1_PI]
+            }
+
             /// Archimedes: z = 1 − 2u, φ = 2πv.
             #[inline]
             pub fn uniform_sphere(u: $t, v: $t) -> [$t; 3] {
@@ -139,12 +163,19 @@ macro_rules! bench_scalar {
             // Baseline vertex order (A, C, B): its b₁ = v√u weighs C and its
             // b₂ = √u(1 − v) weighs B, which is areawarp's map.
             let tri_base: [[$t; 3]; 3] = [a.into(), cc.into(), b.into()];
+            let inv_area = 1.0 / tri.measure();
+            // [x, y, z, pdf] and [x, y, pdf] from areawarp's by-value call.
+            let s3 = |s: areawarp::Sample<$t, Vec3<$t>>| [s.point.x, s.point.y, s.point.z, s.pdf];
+            let s2 = |s: areawarp::Sample<$t, areawarp::Vec2<$t>>| [s.point.x, s.point.y, s.pdf];
 
             // Same shapes (and the same points where the maps coincide).
             let eps = 64.0 * $t::EPSILON;
             for &(u, v) in &pts {
                 let p = cosine.map(&u, &v);
                 let q = $base::cosine_hemisphere(u, v);
+                let (sa, sb) = (cosine.sample_uv([u, v]), $base::cosine_hemisphere_pdf(u, v));
+                assert!((sa.pdf - sa.point.z * std::$t::consts::FRAC_1_PI).abs() < eps);
+                assert!((sb[3] - q[2] * std::$t::consts::FRAC_1_PI).abs() < eps);
                 let norm = |x: [$t; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
                 assert!((norm(p.into()) - 1.0).abs() < eps && p.z >= 0.0);
                 assert!((norm(q) - 1.0).abs() < eps && q[2] >= 0.0);
@@ -172,37 +203,41 @@ macro_rules! bench_scalar {
             let mut group = c.benchmark_group(format!("simple_warps/cosine_hemisphere_{ty}"));
             group.throughput(Throughput::Elements(N as u64));
             group.bench_function("areawarp", |b| {
-                b.iter(|| run(&pts, |u, v| cosine.map(&u, &v).into()))
+                b.iter(|| run(&pts, |u, v| s3(cosine.sample_uv([u, v]))))
             });
             group.bench_function("baseline", |b| {
-                b.iter(|| run(&pts, $base::cosine_hemisphere))
+                b.iter(|| run(&pts, $base::cosine_hemisphere_pdf))
             });
             group.finish();
 
             let mut group = c.benchmark_group(format!("simple_warps/uniform_sphere_{ty}"));
             group.throughput(Throughput::Elements(N as u64));
             group.bench_function("areawarp", |b| {
-                b.iter(|| run(&pts, |u, v| sphere.map(&u, &v).into()))
+                b.iter(|| run(&pts, |u, v| s3(sphere.sample_uv([u, v]))))
             });
-            group.bench_function("baseline", |b| b.iter(|| run(&pts, $base::uniform_sphere)));
+            group.bench_function("baseline", |b| {
+                b.iter(|| run(&pts, $base::uniform_sphere_pdf))
+            });
             group.finish();
 
             let mut group = c.benchmark_group(format!("simple_warps/planar_triangle_{ty}"));
             group.throughput(Throughput::Elements(N as u64));
             group.bench_function("areawarp", |b| {
-                b.iter(|| run(&pts, |u, v| tri.map(&u, &v).into()))
+                b.iter(|| run(&pts, |u, v| s3(tri.sample_uv([u, v]))))
             });
             group.bench_function("baseline", |b| {
-                b.iter(|| run(&pts, |u, v| $base::triangle(&tri_base, u, v)))
+                b.iter(|| run(&pts, |u, v| $base::triangle_pdf(&tri_base, inv_area, u, v)))
             });
             group.finish();
 
             let mut group = c.benchmark_group(format!("simple_warps/concentric_disk_{ty}"));
             group.throughput(Throughput::Elements(N as u64));
             group.bench_function("areawarp", |b| {
-                b.iter(|| run(&pts, |u, v| disk.map(&u, &v).into()))
+                b.iter(|| run(&pts, |u, v| s2(disk.sample_uv([u, v]))))
             });
-            group.bench_function("baseline", |b| b.iter(|| run(&pts, $base::concentric_disk)));
+            group.bench_function("baseline", |b| {
+                b.iter(|| run(&pts, $base::concentric_disk_pdf))
+            });
             group.finish();
         }
     };

@@ -151,6 +151,7 @@ pub trait Warp<T: Real> {
     }
     /// `(ψ(u, v), pdf(ψ(u, v)))` in one call: what a sampler needs. The
     /// default evaluates [`Warp::pdf_unchecked`] at the mapped point.
+    #[inline]
     fn map_with_pdf(&self, u: &T, v: &T) -> (Self::Point, T) {
         let p = self.map(u, v);
         let pdf = self.pdf_unchecked(&p);
@@ -161,6 +162,7 @@ pub trait Warp<T: Real> {
     /// (Named `sample_uv` rather than `sample` so that it never clashes with
     /// [`rand::distr::Distribution::sample`], which the `f32`/`f64` warps
     /// implement too.)
+    #[inline]
     fn sample_uv(&self, uv: [T; 2]) -> Sample<T, Self::Point> {
         let [u, v] = uv;
         let (point, pdf) = self.map_with_pdf(&u, &v);

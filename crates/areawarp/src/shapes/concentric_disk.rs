@@ -105,6 +105,7 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     }
 
     /// `1/π`, whatever `p` (not checked).
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }

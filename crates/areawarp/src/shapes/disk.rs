@@ -90,6 +90,7 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
     }
 
     /// `1/π`, whatever `p` (not checked).
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }

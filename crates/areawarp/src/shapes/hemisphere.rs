@@ -102,6 +102,7 @@ impl<T: Real> Warp<T> for Hemisphere<T> {
         Vec3::new(x, y, z)
     }
 
+    #[inline]
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if p.z < T::zero() {
             T::zero()

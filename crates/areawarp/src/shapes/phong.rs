@@ -219,8 +219,23 @@ impl<T: Real> Warp<T> for PhongLobe<T> {
         Vec3::new(x, y, z)
     }
 
+    #[inline]
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         cos_power(p, self.kind, &self.half_k) * &self.norm
+    }
+
+    /// The point and its density from the map's own `z = cos θ` for `k = 0`
+    /// and `k = 1` (`(k+1)/(2π)·z^k`: no normalization of the point, which
+    /// is on the sphere to rounding), [`Warp::pdf_unchecked`] otherwise.
+    #[inline]
+    fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
+        let p = self.map(u, v);
+        let pdf = match self.kind {
+            Kind::Uniform => self.norm.clone(),
+            Kind::Cosine => p.z.clone() * &self.norm,
+            Kind::General => self.pdf_unchecked(&p),
+        };
+        (p, pdf)
     }
 
     fn measure(&self) -> T {

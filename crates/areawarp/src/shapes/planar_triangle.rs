@@ -321,6 +321,7 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
     }
 
     /// `1 / area`, whatever `p` (the density is constant; `p` is not checked).
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_area.clone()
     }

@@ -305,6 +305,7 @@ impl<T: Real> Warp<T> for Sphere<T> {
         }
     }
 
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_four_pi.clone()
     }
