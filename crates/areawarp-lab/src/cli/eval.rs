@@ -12,6 +12,7 @@ use areawarp::shapes::{
     SphericalLune, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
     SphericalTriangleVariant, StdNormal, Tent, UniformCone, VonMisesFisher,
 };
+use areawarp::warp::LightWarp;
 use areawarp::{Coords, Vec3, Warp};
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
@@ -296,12 +297,12 @@ fn sphere_light<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
     }
     let w = SphereLight::new(vec3(0), n[3].clone(), vec3(4)).map_err(|e| e.to_string())?;
     if opts.inverse {
-        let (u, v) = if tail == 6 {
+        let [u, v] = if tail == 6 {
             w.inverse_point(&vec3(7))
         } else {
             w.inverse(&vec3(7))
         }
-        .ok_or("the point is not on the visible part of the sphere")?;
+        .map_err(|e| e.to_string())?;
         return Ok(format!(
             "{} {}",
             u.to_roundtrip_string(),
@@ -310,7 +311,7 @@ fn sphere_light<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
     }
     let (u, v) = (&n[7], &n[8]);
     check_unit(u, v)?;
-    let s = w.sample_hit(u, v);
+    let s = w.sample_light([u.clone(), v.clone()]);
     let (p, d) = (s.point, s.direction);
     Ok(join(&[p.x, p.y, p.z, d.x, d.y, d.z]))
 }

@@ -8,7 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Microfacet normals about `+z` with the isotropic Beckmann distribution of
 /// roughness α, sampled with density `D(m) cos θ_m` per steradian
@@ -108,7 +108,7 @@ impl<T: Real> Warp<T> for Beckmann<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, cos_theta)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if !p.is_finite() || p.z <= T::zero() {
             return T::zero();
         }
@@ -133,10 +133,8 @@ impl<T: Real> Warp<T> for Beckmann<T> {
         T::one()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let z = p.z.max(&T::zero());
         let rho2 = p.x.square() + &p.y.square();
         // u = 1 − exp(−tan²θ/α²).
@@ -146,7 +144,7 @@ impl<T: Real> Warp<T> for Beckmann<T> {
         } else {
             T::one()
         };
-        Some((clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)))
+        Ok([clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)])
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
@@ -164,7 +162,7 @@ impl<T: Real> WarpFamily<T> for Beckmann<T> {
     }
 }
 
-crate::shapes::impl_distribution!(Beckmann, Vec3);
+crate::warp::distribution_for_floats!(Beckmann, Vec3);
 
 /// The recipe specification of [`Beckmann`]: φ the polar hemisphere with
 /// θ = πs/2, weight `D(m) cos θ_m` (measure 1),

@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::{Vec2, Vec3};
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Inverse CDF of the linear density `∝ (1 − x)a + xb` on [0, 1]
 /// (`a, b ≥ 0`, not both 0): `x = u(a + b)/(a + √((1 − u)a² + ub²))`,
@@ -173,27 +173,20 @@ impl<T: Real> Warp<T> for Bilinear<T> {
         Vec2::new(x, y)
     }
 
-    fn pdf(&self, p: &Vec2<T>) -> T {
-        if !(p.x.is_finite() && p.y.is_finite()) || self.outside_by(p) > T::zero() {
-            return T::zero();
-        }
-        self.weight_at(&p.x, &p.y) / &self.measure
+    fn pdf_unchecked(&self, p: &Vec2<T>) -> T {
+        self.weight_at(&clamp_unit(&p.x), &clamp_unit(&p.y)) / &self.measure
     }
 
     fn measure(&self) -> T {
         self.measure.clone()
     }
 
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-        if !(p.x.is_finite() && p.y.is_finite())
-            || self.outside_by(p) > T::unit_roundoff() * &T::from_i64(4)
-        {
-            return None;
-        }
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &(T::unit_roundoff() * &T::from_i64(4)))?;
         let (x, y) = (clamp_unit(&p.x), clamp_unit(&p.y));
         let u = linear_cdf(&x, &self.left, &self.right);
         let (a, b) = self.conditional_ends(&x);
-        Some((u, linear_cdf(&y, &a, &b)))
+        Ok([u, linear_cdf(&y, &a, &b)])
     }
 
     fn outside_by(&self, p: &Vec2<T>) -> T {
@@ -214,7 +207,7 @@ impl<T: Real> WarpFamily<T> for Bilinear<T> {
     }
 }
 
-crate::shapes::impl_distribution!(Bilinear, Vec2);
+crate::warp::distribution_for_floats!(Bilinear, Vec2);
 
 /// The recipe specification of [`Bilinear`]: φ(s, t) = (s, t), weight the
 /// bilinear interpolation, F the linear marginal's CDF, G_s the linear

@@ -8,7 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Validates a microfacet roughness: finite and `> 0`.
 pub(crate) fn check_roughness<T: Real>(alpha: &T) -> Result<(), WarpError> {
@@ -119,7 +119,7 @@ impl<T: Real> Warp<T> for Ggx<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, cos_theta)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if !p.is_finite() || p.z <= T::zero() {
             return T::zero();
         }
@@ -137,10 +137,8 @@ impl<T: Real> Warp<T> for Ggx<T> {
         T::one()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let z = p.z.max(&T::zero());
         let rho2 = p.x.square() + &p.y.square();
         // u = tan²θ/(α² + tan²θ) = ρ²/(α²z² + ρ²).
@@ -155,7 +153,7 @@ impl<T: Real> Warp<T> for Ggx<T> {
         } else {
             rho2 / &q
         };
-        Some((clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)))
+        Ok([clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)])
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
@@ -173,7 +171,7 @@ impl<T: Real> WarpFamily<T> for Ggx<T> {
     }
 }
 
-crate::shapes::impl_distribution!(Ggx, Vec3);
+crate::warp::distribution_for_floats!(Ggx, Vec3);
 
 /// The polar parametrization of the upper hemisphere shared by the
 /// microfacet recipes: φ(s, t) = (sin θ cos 2πt, sin θ sin 2πt, cos θ),

@@ -1,27 +1,4 @@
 //! The analytic warps.
-
-/// `rand::distr::Distribution` directly on the `f32`/`f64` warps (so that
-/// `warp.sample(&mut rng)` works): ψ(u, v) of two uniform `[0, 1)` numbers.
-/// `crate::sampling::WarpSampler` wraps any warp the same way.
-macro_rules! impl_distribution {
-    ($warp:ident, $point:ident) => {
-        impl_distribution!(@one $warp, $point, f32);
-        impl_distribution!(@one $warp, $point, f64);
-    };
-    (@one $warp:ident, $point:ident, $t:ty) => {
-        impl rand::distr::Distribution<$crate::vector::$point<$t>> for $warp<$t> {
-            /// ψ(u, v) of two uniform `[0, 1)` numbers drawn from `rng`.
-            fn sample<R: rand::Rng + ?Sized>(&self, rng: &mut R) -> $crate::vector::$point<$t> {
-                use rand::RngExt;
-                let u: $t = rng.random();
-                let v: $t = rng.random();
-                $crate::warp::Warp::map(self, &u, &v)
-            }
-        }
-    };
-}
-pub(crate) use impl_distribution;
-
 mod beckmann;
 mod bilinear;
 mod concentric_disk;
@@ -55,7 +32,7 @@ pub use phong::{PhongLobe, PhongRecipe};
 pub use planar_triangle::{PlanarTriangle, PlanarTriangleRecipe, PlanarTriangleVariant};
 pub use projected_polygon::{MarginalInversion, ProjectedPolygon};
 pub use sphere::{Sphere, SphereRecipe};
-pub use sphere_light::{SphereLight, SphereLightSample, sphere_light_ladder};
+pub use sphere_light::{SphereLight, sphere_light_ladder};
 pub use spherical_lune::{SphericalLune, lune_catalogue};
 pub use spherical_rectangle::{
     SphericalRectangle, SphericalRectangleRecipe, SphericalRectangleVariant, hard_rectangles,

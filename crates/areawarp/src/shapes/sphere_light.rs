@@ -8,18 +8,7 @@ use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, positive, turn
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
-
-/// A sample of [`SphereLight::sample_hit`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct SphereLightSample<T> {
-    /// The first intersection of the ray from the observer with the sphere.
-    pub point: Vec3<T>,
-    /// The unit direction from the observer (ψ(u, v)).
-    pub direction: Vec3<T>,
-    /// Density in solid angle, `1/Ω`.
-    pub pdf: T,
-}
+use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily};
 
 /// How far a direction with `w = 1 − cos θ` and `sin θ` lies beyond the rim
 /// of a cone with `h = 1 − cos θ_max`, `sin θ_max`, as an angle:
@@ -42,7 +31,7 @@ pub(crate) fn beyond_rim<T: Real>(w: &T, h: &T, sin_theta: &T, sin_max: &T) -> T
 /// 1 − cos θ = u·h,   φ = 2πv,
 ///
 /// about the axis `(c − o)/d`; ψ(u, v) is the direction, and
-/// [`SphereLight::sample_hit`] also returns the point `c + r·n` with
+/// [`LightWarp::sample_light`] also returns the point `c + r·n` with
 /// `n = (sin α cos φ, sin α sin φ, −cos α)` in the same frame, α the angle
 /// at the centre between `n` and `−axis`.
 ///
@@ -72,7 +61,8 @@ pub(crate) fn beyond_rim<T: Real>(w: &T, h: &T, sin_theta: &T, sin_max: &T) -> T
 /// // sin θ_max = 1/2: Ω = 2π(1 − √3/2).
 /// let omega = 2.0 * std::f64::consts::PI * (1.0 - 3f64.sqrt() / 2.0);
 /// assert!((light.measure() - omega).abs() < 1e-15);
-/// let s = light.sample_hit(&0.3, &0.7);
+/// use areawarp::warp::LightWarp;
+/// let s = light.sample_light([0.3, 0.7]);
 /// assert!(((s.point.sub(&Vec3::new(0.0, 0.0, 2.0))).norm() - 1.0).abs() < 1e-15);
 /// let along = s.point.scale(&(1.0 / s.point.norm()));
 /// assert!(along.sub(&s.direction).norm() < 1e-15);
@@ -83,6 +73,7 @@ pub struct SphereLight<T> {
     center: Vec3<T>,
     radius: T,
     observer: Vec3<T>,
+    distance: T,
     frame: LocalFrame<T>,
     sin_max: T,
     cos_max: T,
@@ -169,6 +160,7 @@ impl<T: Real> SphereLight<T> {
             center,
             radius,
             observer,
+            distance: d,
             frame,
             sin_max,
             cos_max,
@@ -205,8 +197,9 @@ impl<T: Real> SphereLight<T> {
         (w, sin_theta, cos_theta, cos_sin_turns(v, &self.half_pi))
     }
 
-    /// ψ(u, v) with the first hit point on the sphere and the density.
-    pub fn sample_hit(&self, u: &T, v: &T) -> SphereLightSample<T> {
+    /// ψ(u, v) with the first hit point on the sphere, its distance and
+    /// both densities (see [`LightWarp::sample_light`]).
+    fn sample_hit(&self, u: &T, v: &T) -> LightSample<T> {
         let (u, v) = (clamp_unit(u), clamp_unit(v));
         let (_, sin_theta, cos_theta, (c, s)) = self.angles(&u, &v);
         let direction = self.frame.to_world(&Vec3::new(
@@ -218,32 +211,47 @@ impl<T: Real> SphereLight<T> {
         let root =
             (self.h.clone() * &(T::one() - &u) * &(cos_theta.clone() + &self.cos_max)).sqrt();
         let cos_alpha = (sin_theta.square() + &(cos_theta.clone() * &root)) / &self.sin_max;
-        let sin_alpha =
-            sin_theta * &self.cos_max.square() / &(self.sin_max.clone() * &(cos_theta + &root));
+        let den = cos_theta + &root;
+        let sin_alpha = sin_theta * &self.cos_max.square() / &(self.sin_max.clone() * &den);
         let n = self.frame.to_world(&Vec3::new(
             sin_alpha.clone() * &c,
             sin_alpha * &s,
             -cos_alpha,
         ));
-        SphereLightSample {
+        // The ray parameter t = d cos θ − √(r² − d² sin²θ), without its
+        // cancellation at the rim: t = d cos²θ_max/(cos θ + √(…)). The
+        // cosine at the emitter |n·ψ| = cos(α + θ) = √(…)/sin θ_max.
+        let distance = self.distance.clone() * &self.cos_max.square() / &den;
+        let cos_emitter = root / &self.sin_max;
+        let pdf_area = self.inv_omega.clone() * &cos_emitter / &distance.square();
+        LightSample {
             point: self.center.add(&n.scale(&self.radius)),
             direction,
+            distance,
             pdf: self.inv_omega.clone(),
+            pdf_area,
         }
     }
 
-    /// `(u, v)` of a point `p` on the sphere's visible cap: the inverse of
-    /// the direction `(p − o)/|p − o|`; `None` if that direction is not in
-    /// the cone or `p` is farther than `2^(−p/2)·r` from the sphere.
-    pub fn inverse_point(&self, p: &Vec3<T>) -> Option<(T, T)> {
+    /// `[u, v]` of a point `p` on the sphere's visible cap: the inverse of
+    /// the direction `(p − o)/|p − o|`.
+    ///
+    /// # Errors
+    /// [`InverseError`] if `p` is not finite, farther than `2^(−p/2)·r` from
+    /// the sphere, or its direction is not in the cone.
+    pub fn inverse_point(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
         if !p.is_finite() {
-            return None;
+            return Err(InverseError::NonFinite);
         }
         let off = (p.sub(&self.center).norm() - &self.radius).abs() / &self.radius;
         if off > on_shape_tolerance::<T>() {
-            return None;
+            return Err(InverseError::OffShape {
+                distance: (off * &self.radius).to_f64(),
+            });
         }
-        let dir = unit_vector(&p.sub(&self.observer))?;
+        let dir = unit_vector(&p.sub(&self.observer)).ok_or(InverseError::OffShape {
+            distance: self.radius.to_f64(),
+        })?;
         self.inverse(&dir)
     }
 }
@@ -260,28 +268,32 @@ impl<T: Real> Warp<T> for SphereLight<T> {
         ))
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
-        if self.outside_by(p) > on_shape_tolerance::<T>() {
-            T::zero()
-        } else {
-            self.inv_omega.clone()
-        }
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
+        self.inv_omega.clone()
+    }
+
+    /// `max(2^(−p/2)·sin θ_max, 64u)`: relative to the cone's size, so that
+    /// [`Warp::pdf`] and [`Warp::inverse`] refuse directions well outside a
+    /// narrow cone (θ_max = 5.6·10⁻⁵ for 10⁻⁸ sr, below `f32`'s
+    /// `2⁻¹² ≈ 2.4·10⁻⁴`), but never below the rounding of a unit
+    /// direction's coordinates.
+    fn on_shape_tolerance(&self) -> T {
+        (on_shape_tolerance::<T>() * &self.sin_max.min(&T::one()))
+            .max(&(T::unit_roundoff() * &T::from_i64(64)))
     }
 
     fn measure(&self) -> T {
         self.omega.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.on_shape_tolerance())?;
         let l = self.frame.to_local(p);
         let (w, _) = one_minus_z(&l);
-        Some((
+        Ok([
             clamp_unit(&(w / &self.h)),
             turns_of(&l.y, &l.x, &self.inv_two_pi),
-        ))
+        ])
     }
 
     /// `| |p| − 1 |` plus the angle by which the direction lies beyond the
@@ -314,7 +326,20 @@ impl<T: Real> WarpFamily<T> for SphereLight<T> {
     }
 }
 
-crate::shapes::impl_distribution!(SphereLight, Vec3);
+crate::warp::distribution_for_floats!(SphereLight, Vec3);
+
+impl<T: Real> LightWarp<T> for SphereLight<T> {
+    fn observer(&self) -> Vec3<T> {
+        self.observer.clone()
+    }
+    /// The direction ψ(u, v), the first hit `c + r·n` on the sphere, the
+    /// distance `d cos²θ_max/(cos θ + √(sin²θ_max − sin²θ))` (no
+    /// cancellation at the rim) and both densities.
+    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
+        let [u, v] = uv;
+        self.sample_hit(&u, &v)
+    }
+}
 
 /// The test shapes, from a sphere of 10⁻⁸ sr far away to an observer
 /// 10⁻⁶ above the surface: `(name, [cx, cy, cz, r, ox, oy, oz])`.

@@ -8,7 +8,7 @@ use super::turns::{clamp_unit, on_shape_tolerance, positive};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Uniform directions (in solid angle) in the spherical lune
 /// `L = {|p| = 1, n₁·p ≥ 0, n₂·p ≥ 0}` bounded by the great circles with
@@ -43,7 +43,7 @@ use crate::warp::{Warp, WarpFamily};
 /// assert!((lune.measure() - std::f64::consts::PI).abs() < 1e-15);
 /// let p = lune.map(&0.3, &0.4);
 /// assert!(p.x >= 0.0 && p.y >= 0.0 && (p.norm() - 1.0).abs() < 1e-15);
-/// let (u, v) = lune.inverse(&p).unwrap();
+/// let [u, v] = lune.inverse(&p).unwrap();
 /// assert!((u - 0.3).abs() < 1e-15 && (v - 0.4).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -138,23 +138,17 @@ impl<T: Real> Warp<T> for SphericalLune<T> {
         self.to_world(&(sin_theta.clone() * &c), &(sin_theta * &s), &z)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
-        if self.outside_by(p) > on_shape_tolerance::<T>() {
-            T::zero()
-        } else {
-            self.inv_measure.clone()
-        }
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
+        self.inv_measure.clone()
     }
 
     fn measure(&self) -> T {
         self.measure.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
-        let q = unit_vector(p)?;
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        let q = unit_vector(p).ok_or_else(|| InverseError::refuse(self, p))?;
         let (x, y, z) = (q.dot(&self.e1), q.dot(&self.n1), q.dot(&self.axis));
         let one = T::one();
         let two = T::from_i64(2);
@@ -176,7 +170,7 @@ impl<T: Real> Warp<T> for SphericalLune<T> {
             };
         }
         let v = (angle / &self.delta).min(&T::one());
-        Some((clamp_unit(&u), v))
+        Ok([clamp_unit(&u), v])
     }
 
     /// `| |p| − 1 |` plus `max(0, −p̂·n₁, −p̂·n₂)` (the sine of the angle
@@ -204,7 +198,7 @@ impl<T: Real> WarpFamily<T> for SphericalLune<T> {
     }
 }
 
-crate::shapes::impl_distribution!(SphericalLune, Vec3);
+crate::warp::distribution_for_floats!(SphericalLune, Vec3);
 
 /// Test lunes `(name, [n1, n2])`: a quarter sphere, a thin lune
 /// (Δ ≈ 0.01), a nearly full hemisphere (Δ ≈ π − 0.01) and a generic one.

@@ -6,7 +6,7 @@ use super::turns::{clamp_unit, cos_sin_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec2;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Points of the plane with the standard normal density (Box–Muller, as a
 /// warp of the square with an inverse; Mitsuba's `square_to_std_normal`):
@@ -38,7 +38,7 @@ use crate::warp::{Warp, WarpFamily};
 /// assert!((p.x - 1.0).abs() < 1e-15);
 /// let q = n.map(&1.0, &0.0);
 /// assert!(q.x.is_finite() && q.x > 12.0);
-/// let (u, v) = n.inverse(&Vec2::new(0.3, -0.4)).unwrap();
+/// let [u, v] = n.inverse(&Vec2::new(0.3, -0.4)).unwrap();
 /// assert!((n.map(&u, &v).x - 0.3).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -96,10 +96,7 @@ impl<T: Real> Warp<T> for StdNormal<T> {
         Vec2::new(r.clone() * &c, r * &s)
     }
 
-    fn pdf(&self, p: &Vec2<T>) -> T {
-        if !(p.x.is_finite() && p.y.is_finite()) {
-            return T::zero();
-        }
+    fn pdf_unchecked(&self, p: &Vec2<T>) -> T {
         let r2 = p.x.square() + &p.y.square();
         (-(r2 / &T::from_i64(2))).exp() * &self.inv_two_pi
     }
@@ -108,13 +105,11 @@ impl<T: Real> Warp<T> for StdNormal<T> {
         self.two_pi.clone()
     }
 
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-        if !(p.x.is_finite() && p.y.is_finite()) {
-            return None;
-        }
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &T::zero())?;
         let half_r2 = (p.x.square() + &p.y.square()) / &T::from_i64(2);
         let u = -(-half_r2).exp_m1();
-        Some((clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)))
+        Ok([clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)])
     }
 
     fn outside_by(&self, p: &Vec2<T>) -> T {
@@ -136,7 +131,7 @@ impl<T: Real> WarpFamily<T> for StdNormal<T> {
     }
 }
 
-crate::shapes::impl_distribution!(StdNormal, Vec2);
+crate::warp::distribution_for_floats!(StdNormal, Vec2);
 
 #[cfg(test)]
 mod tests {

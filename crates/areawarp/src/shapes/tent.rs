@@ -5,7 +5,7 @@ use super::turns::clamp_unit;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec2;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// The inverse CDF of the 1-D tent `1 − |x|` on [−1, 1]:
 /// `x = −1 + √(2u)` for `u < 1/2`, `1 − √(2(1 − u))` above, evaluated as
@@ -85,10 +85,7 @@ impl<T: Real> Warp<T> for Tent<T> {
         )
     }
 
-    fn pdf(&self, p: &Vec2<T>) -> T {
-        if self.outside_by(p) > T::zero() {
-            return T::zero();
-        }
+    fn pdf_unchecked(&self, p: &Vec2<T>) -> T {
         let one = T::one();
         (one.clone() - &p.x.abs()) * &(one - &p.y.abs())
     }
@@ -97,16 +94,14 @@ impl<T: Real> Warp<T> for Tent<T> {
         T::one()
     }
 
-    fn inverse(&self, p: &Vec2<T>) -> Option<(T, T)> {
-        if self.outside_by(p) > T::unit_roundoff() * &T::from_i64(4) {
-            return None;
-        }
+    fn inverse(&self, p: &Vec2<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &(T::unit_roundoff() * &T::from_i64(4)))?;
         let one = T::one();
         let (x, y) = (
             p.x.clamp(&-one.clone(), &one),
             p.y.clamp(&-one.clone(), &one),
         );
-        Some((clamp_unit(&tent_cdf(&x)), clamp_unit(&tent_cdf(&y))))
+        Ok([clamp_unit(&tent_cdf(&x)), clamp_unit(&tent_cdf(&y))])
     }
 
     fn outside_by(&self, p: &Vec2<T>) -> T {
@@ -128,7 +123,7 @@ impl<T: Real> WarpFamily<T> for Tent<T> {
     }
 }
 
-crate::shapes::impl_distribution!(Tent, Vec2);
+crate::warp::distribution_for_floats!(Tent, Vec2);
 
 #[cfg(test)]
 mod tests {

@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Validates `cos θ_max` and returns `h = 1 − cos θ_max` (exact for
 /// `cos θ_max ≥ 1/2`, Sterbenz).
@@ -67,7 +67,7 @@ fn cap_outside_by<T: Real>(p: &Vec3<T>, h: &T) -> T {
 /// let p = cone.map(&1.0, &0.0);
 /// assert!((p.z - 0.5).abs() < 1e-15); // the rim
 /// assert!((cone.measure() - std::f64::consts::PI).abs() < 1e-15);
-/// let (u, v) = cone.inverse(&cone.map(&0.3, &0.6)).unwrap();
+/// let [u, v] = cone.inverse(&cone.map(&0.3, &0.6)).unwrap();
 /// assert!((u - 0.3).abs() < 1e-15 && (v - 0.6).abs() < 1e-15);
 /// ```
 #[derive(Clone, Debug)]
@@ -126,21 +126,17 @@ impl<T: Real> Warp<T> for UniformCone<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, T::one() - &w)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
-        if cap_outside_by(p, &self.h) > on_shape_tolerance::<T>() {
-            T::zero()
-        } else {
-            self.inv_measure.clone()
-        }
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
+        self.inv_measure.clone()
     }
 
     fn measure(&self) -> T {
         self.measure.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        let [u, v] = cone_inverse(p, &self.h, &self.inv_two_pi)?;
-        Some((u, v))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        Ok(cone_inverse(p, &self.h, &self.inv_two_pi))
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
@@ -148,14 +144,11 @@ impl<T: Real> Warp<T> for UniformCone<T> {
     }
 }
 
-/// `[u, v]` of a direction in a cap of height `h` about `+z`; `None` off
-/// the cap (beyond [`on_shape_tolerance`]) or non-finite.
-fn cone_inverse<T: Real>(p: &Vec3<T>, h: &T, inv_two_pi: &T) -> Option<[T; 2]> {
-    if !p.is_finite() || cap_outside_by(p, h) > on_shape_tolerance::<T>() {
-        return None;
-    }
+/// `[u, v]` of a direction (on the cap, checked by the caller) of a cap of
+/// height `h` about `+z`.
+fn cone_inverse<T: Real>(p: &Vec3<T>, h: &T, inv_two_pi: &T) -> [T; 2] {
     let (w, _) = one_minus_z(p);
-    Some([clamp_unit(&(w / h)), turns_of(&p.y, &p.x, inv_two_pi)])
+    [clamp_unit(&(w / h)), turns_of(&p.y, &p.x, inv_two_pi)]
 }
 
 impl<T: Real> WarpFamily<T> for UniformCone<T> {
@@ -168,7 +161,7 @@ impl<T: Real> WarpFamily<T> for UniformCone<T> {
     }
 }
 
-crate::shapes::impl_distribution!(UniformCone, Vec3);
+crate::warp::distribution_for_floats!(UniformCone, Vec3);
 
 /// The recipe specification of [`UniformCone`], steps 1–4:
 ///

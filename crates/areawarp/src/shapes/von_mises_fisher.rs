@@ -7,7 +7,7 @@ use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// `ln(1 + x)/x`, 1 at `x = 0` (the limit).
 fn log1p_ratio<T: Real>(x: &T) -> T {
@@ -85,7 +85,7 @@ fn softplus<T: Real>(a: &T) -> T {
 /// let p = sharp.map(&0.5, &0.0);
 /// // 1 − z = ln 2/κ; sin θ ≈ √(2 ln 2/κ), although z rounds to 1 − 7e-7.
 /// assert!((p.x / (2.0 * 2f64.ln() / 1e6).sqrt() - 1.0).abs() < 1e-6);
-/// let (u, _) = sharp.inverse(&p).unwrap();
+/// let [u, _] = sharp.inverse(&p).unwrap();
 /// assert!((u - 0.5).abs() < 1e-12);
 /// let flat = VonMisesFisher::new(0.0f64).unwrap(); // uniform sphere
 /// assert!((flat.pdf(&p) * 4.0 * std::f64::consts::PI - 1.0).abs() < 1e-15);
@@ -216,7 +216,7 @@ impl<T: Real> Warp<T> for VonMisesFisher<T> {
         Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
     }
 
-    fn pdf(&self, p: &Vec3<T>) -> T {
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if !p.is_finite() || p.norm_squared() == T::zero() {
             return T::zero();
         }
@@ -228,9 +228,9 @@ impl<T: Real> Warp<T> for VonMisesFisher<T> {
         self.measure.clone()
     }
 
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        let [u, v] = self.inverse_uv(p)?;
-        Some((u, v))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &on_shape_tolerance::<T>())?;
+        Ok(self.inverse_uv(p))
     }
 
     fn outside_by(&self, p: &Vec3<T>) -> T {
@@ -242,11 +242,9 @@ impl<T: Real> Warp<T> for VonMisesFisher<T> {
 }
 
 impl<T: Real> VonMisesFisher<T> {
-    /// `[u, v]` of a direction (normalized first); `None` off the sphere.
-    fn inverse_uv(&self, p: &Vec3<T>) -> Option<[T; 2]> {
-        if !p.is_finite() || self.outside_by(p) > on_shape_tolerance::<T>() {
-            return None;
-        }
+    /// `[u, v]` of a direction (normalized first; on the sphere, checked
+    /// by the caller).
+    fn inverse_uv(&self, p: &Vec3<T>) -> [T; 2] {
         let (w, rho2) = one_minus_z(p);
         let two = T::from_i64(2);
         let u = if w <= T::one() {
@@ -276,7 +274,7 @@ impl<T: Real> VonMisesFisher<T> {
             };
             T::one() - &tail
         };
-        Some([clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)])
+        [clamp_unit(&u), turns_of(&p.y, &p.x, &self.inv_two_pi)]
     }
 }
 
@@ -290,7 +288,7 @@ impl<T: Real> WarpFamily<T> for VonMisesFisher<T> {
     }
 }
 
-crate::shapes::impl_distribution!(VonMisesFisher, Vec3);
+crate::warp::distribution_for_floats!(VonMisesFisher, Vec3);
 
 #[cfg(test)]
 mod tests {

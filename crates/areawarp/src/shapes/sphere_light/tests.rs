@@ -92,6 +92,19 @@ fn sphere_light_hit_points_are_first_hits_on_the_sphere() {
                     "{name} {u} {v}: {across:e}"
                 );
                 assert_eq!(s.direction, w.map(&u, &v));
+                // The distance is |p − o|, the area density pdf·|cos θ_e|/t².
+                assert!(
+                    (s.distance - to_p.norm()).abs() <= 16.0 * f64::EPSILON * scale,
+                    "{name} {u} {v}"
+                );
+                let cos_e = n.dot(&s.direction).abs() / r;
+                let want = s.pdf * cos_e / (s.distance * s.distance);
+                assert!(
+                    (s.pdf_area - want).abs()
+                        <= 1e-6 * want.max(1e-300) + 1e-9 * s.pdf / (s.distance * s.distance),
+                    "{name} {u} {v}: {} {want}",
+                    s.pdf_area
+                );
                 assert!(w.outside_by(&s.direction) <= 4.0 * f64::EPSILON);
                 let t = w32.sample_hit(&(u as f32), &(v as f32));
                 assert!(
@@ -105,7 +118,7 @@ fn sphere_light_hit_points_are_first_hits_on_the_sphere() {
         let n = s.point.sub(w.center()).scale(&(1.0 / w.radius()));
         assert!(n.dot(&s.direction).abs() < 1e-9, "{name}");
         // Round trip through the point.
-        let (u2, v2) = w.inverse_point(&w.sample_hit(&0.3, &0.7).point).unwrap();
+        let [u2, v2] = w.inverse_point(&w.sample_hit(&0.3, &0.7).point).unwrap();
         assert!(
             (u2 - 0.3).abs() < 1e-6 && (v2 - 0.7).abs() < 1e-6,
             "{name}: {u2} {v2}"
