@@ -378,7 +378,11 @@ mod tests {
                     Vec3::new(0.0, 1.0, 0.0),
                     axis.clone(),
                 ],
-                AxisBins::edges_from_map(&g, &axis, 10),
+                AxisBins::quantile_edges(
+                    |x| g.pdf(&Vec3::new((x * (2.0 - x)).max(0.0).sqrt(), 0.0, 1.0 - x)),
+                    10,
+                    1.0,
+                ),
                 2.0 * std::f64::consts::PI,
                 12,
                 |x| g.pdf(&Vec3::new((x * (2.0 - x)).max(0.0).sqrt(), 0.0, 1.0 - x)),

@@ -34,7 +34,7 @@ pub(crate) fn integrate(f: &impl Fn(f64) -> f64, a: f64, b: f64, pieces: usize) 
 /// equal width from `a = 0`.
 fn integrate_band(f: &impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
     if a > 0.0 && b / a > 4.0 {
-        let n = 256;
+        let n = 512;
         let r = (b / a).powf(1.0 / n as f64);
         (0..n)
             .map(|k| {
@@ -87,30 +87,41 @@ impl AxisBins {
         }
     }
 
-    /// Band edges at `w` of the map's points `(i/n, v)`: cells of roughly
-    /// equal probability if the map is right (the probabilities themselves
-    /// are integrated from the density).
-    pub(crate) fn edges_from_map<W: Warp<f64, Point = Vec3<f64>>>(
-        w: &W,
-        axis: &Vec3<f64>,
-        n: usize,
-    ) -> Vec<f64> {
-        let mut e: Vec<f64> = (0..=n)
-            .map(|i| {
-                let p = w.map(&(i as f64 / n as f64), &0.0);
-                let z = p.dot(axis);
-                let rho2 = p.norm_squared() - z * z;
-                if z > 0.0 {
-                    rho2.max(0.0) / (1.0 + z)
+    /// Band edges `0 = w_0 < … < w_n = w_max` at the quantiles `i/n` of the
+    /// claimed density (`∫₀^w pdf`, integrated numerically and inverted by
+    /// bisection): cells of equal probability, found without the map.
+    pub(crate) fn quantile_edges(pdf_of_w: impl Fn(f64) -> f64, n: usize, w_max: f64) -> Vec<f64> {
+        let tiny = 1e-15 * w_max;
+        let mass = |w: f64| -> f64 {
+            let w = w.clamp(0.0, w_max);
+            if w <= tiny {
+                integrate(&pdf_of_w, 0.0, w, 4)
+            } else {
+                integrate(&pdf_of_w, 0.0, tiny, 4) + integrate_band(&pdf_of_w, tiny, w)
+            }
+        };
+        let total = mass(w_max);
+        let mut edges = vec![0.0];
+        for i in 1..n {
+            let target = total * i as f64 / n as f64;
+            let (mut lo, mut hi) = (tiny, w_max);
+            for _ in 0..100 {
+                // Bisection in log scale while the bracket is wide.
+                let mid = if hi / lo > 4.0 {
+                    (lo * hi).sqrt()
                 } else {
-                    1.0 - z
+                    0.5 * (lo + hi)
+                };
+                if mass(mid) < target {
+                    lo = mid;
+                } else {
+                    hi = mid;
                 }
-            })
-            .collect();
-        e.sort_by(f64::total_cmp);
-        e.dedup();
-        e[0] = 0.0;
-        e
+            }
+            edges.push(0.5 * (lo + hi));
+        }
+        edges.push(w_max);
+        edges
     }
 }
 

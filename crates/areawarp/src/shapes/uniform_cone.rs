@@ -329,8 +329,8 @@ mod tests {
             roundtrip_passes::<f64, _>(&format!("uniform-cone {c}"), &w, 8.0);
             roundtrip_passes::<f32, _>(&format!("uniform-cone {c}"), &w, 8.0);
             let axis = Vec3::new(0.0, 0.0, 1.0);
-            let edges = AxisBins::edges_from_map(&w, &axis, 10);
             let h = 1.0 - c;
+            let edges = AxisBins::quantile_edges(|_| 1.0, 10, h);
             let bins = AxisBins::new(
                 [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), axis],
                 edges,

@@ -354,7 +354,8 @@ mod tests {
             roundtrip_passes::<f64, _>(&format!("von-mises-fisher {k}"), &w, 32.0);
             roundtrip_passes::<f32, _>(&format!("von-mises-fisher {k}"), &w, 32.0);
             let axis = Vec3::new(0.0, 0.0, 1.0);
-            let edges = AxisBins::edges_from_map(&w, &axis, 10);
+            let pdf_w = |x: f64| w.pdf(&Vec3::new((x * (2.0 - x)).max(0.0).sqrt(), 0.0, 1.0 - x));
+            let edges = AxisBins::quantile_edges(pdf_w, 10, 2.0);
             let bins = AxisBins::new(
                 [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), axis],
                 edges,

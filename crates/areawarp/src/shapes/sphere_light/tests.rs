@@ -132,7 +132,7 @@ fn sphere_light_roundtrip_and_chi2() {
         roundtrip_passes::<f64, _>(&format!("sphere-light {name}"), &w, 16.0);
         roundtrip_passes::<f32, _>(&format!("sphere-light {name}"), &w, 16.0);
         let f = &w.frame;
-        let edges = AxisBins::edges_from_map(&w, &f.axis, 10);
+        let edges = AxisBins::quantile_edges(|_| 1.0, 10, *w.cone_height());
         let bins = AxisBins::new(
             [f.e1.clone(), f.e2.clone(), f.axis.clone()],
             edges,
