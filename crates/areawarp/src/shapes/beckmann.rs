@@ -334,11 +334,7 @@ mod tests {
             roundtrip_passes::<f32, _>(&format!("beckmann {a}"), &b, 16.0);
             let axis = Vec3::new(0.0, 0.0, 1.0);
             let bins = AxisBins::new(
-                [
-                    Vec3::new(1.0, 0.0, 0.0),
-                    Vec3::new(0.0, 1.0, 0.0),
-                    axis.clone(),
-                ],
+                [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), axis],
                 AxisBins::quantile_edges(
                     |x| b.pdf(&Vec3::new((x * (2.0 - x)).max(0.0).sqrt(), 0.0, 1.0 - x)),
                     10,

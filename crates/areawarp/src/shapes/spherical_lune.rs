@@ -233,19 +233,19 @@ mod tests {
     fn lune_errors_angles_and_edges() {
         let y = Vec3::new(0.0, 1.0, 0.0f64);
         assert!(matches!(
-            SphericalLune::new(y.clone(), y.clone()),
+            SphericalLune::new(y, y),
             Err(WarpError::Degenerate { .. })
         ));
         assert!(matches!(
-            SphericalLune::new(y.clone(), y.neg()),
+            SphericalLune::new(y, y.neg()),
             Err(WarpError::Degenerate { .. })
         ));
         assert!(matches!(
-            SphericalLune::new(y.clone(), Vec3::zero()),
+            SphericalLune::new(y, Vec3::zero()),
             Err(WarpError::Degenerate { .. })
         ));
         assert!(matches!(
-            SphericalLune::new(y.clone(), Vec3::new(f64::NAN, 0.0, 0.0)),
+            SphericalLune::new(y, Vec3::new(f64::NAN, 0.0, 0.0)),
             Err(WarpError::NonFinite { .. })
         ));
         let l = lunes();
@@ -275,7 +275,7 @@ mod tests {
             roundtrip_passes::<f32, _>(&format!("spherical-lune {name}"), &w, 8.0);
             let e2 = w.axis.cross(&w.e1);
             let bins = AxisBins::new(
-                [w.e1.clone(), e2, w.axis.clone()],
+                [w.e1, e2, w.axis],
                 (0..=10).map(|i| 0.2 * i as f64).collect(),
                 w.delta,
                 8,

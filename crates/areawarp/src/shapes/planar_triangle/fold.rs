@@ -146,7 +146,7 @@ mod tests {
         for (i, t) in tris().into_iter().enumerate() {
             roundtrip_passes::<f64, _>(&format!("planar-triangle fold {i}"), &t, 8.0);
             roundtrip_passes::<f32, _>(&format!("planar-triangle fold {i}"), &t, 8.0);
-            let bins = TriangleBins::new(t.a().clone(), t.b().clone(), t.c().clone(), 12).unwrap();
+            let bins = TriangleBins::new(*t.a(), *t.b(), *t.c(), 12).unwrap();
             chi2_passes(&format!("planar-triangle fold {i}"), &t, &bins, 200_000);
         }
     }

@@ -25,25 +25,25 @@ fn sphere_light_constructor_errors() {
     let o = Vec3::new(0.0, 0.0, 0.0);
     let c = Vec3::new(0.0, 0.0, 2.0);
     assert!(matches!(
-        SphereLight::new(c.clone(), 2.0, o.clone()),
+        SphereLight::new(c, 2.0, o),
         Err(WarpError::InvalidParameter {
             name: "observer",
             ..
         })
     ));
     assert!(matches!(
-        SphereLight::new(c.clone(), 3.0, o.clone()),
+        SphereLight::new(c, 3.0, o),
         Err(WarpError::InvalidParameter {
             name: "observer",
             ..
         })
     ));
     assert!(matches!(
-        SphereLight::new(c.clone(), 0.0, o.clone()),
+        SphereLight::new(c, 0.0, o),
         Err(WarpError::InvalidParameter { name: "radius", .. })
     ));
     assert!(matches!(
-        SphereLight::new(c.clone(), f64::NAN, o.clone()),
+        SphereLight::new(c, f64::NAN, o),
         Err(WarpError::NonFinite { .. })
     ));
     assert!(matches!(
@@ -134,7 +134,7 @@ fn sphere_light_roundtrip_and_chi2() {
         let f = &w.frame;
         let edges = AxisBins::quantile_edges(|_| 1.0, 10, *w.cone_height());
         let bins = AxisBins::new(
-            [f.e1.clone(), f.e2.clone(), f.axis.clone()],
+            [f.e1, f.e2, f.axis],
             edges,
             2.0 * std::f64::consts::PI,
             12,
