@@ -32,8 +32,9 @@ enum Command {
         /// Each line ends with a point instead of `u v`; print `MAP u v`.
         #[arg(long)]
         inverse: bool,
-        /// Solid-angle maps: `robust` (default) or the papers' `literal` algorithms.
-        #[arg(long, default_value = "robust", value_parser = ["robust", "literal"])]
+        /// Solid-angle maps: `robust` (default) or the papers' `literal`
+        /// algorithms; `planar-triangle`: `fold` for Heitz's fold map.
+        #[arg(long, default_value = "robust", value_parser = ["robust", "literal", "fold"])]
         variant: String,
         /// projected-polygon: Newton steps after the Vandermonde cubic (default: to convergence).
         #[arg(long)]
@@ -69,6 +70,7 @@ fn main() -> ExitCode {
             let opts = cli::eval::Options {
                 inverse,
                 literal: variant == "literal",
+                fold: variant == "fold",
                 newton,
             };
             cli::eval::main(&precision, opts, file.as_deref())

@@ -53,10 +53,11 @@ use areawarp::harness::precision::OUTSIDE_TOLERANCE_ULPS;
 use areawarp::harness::sensitivity::{InputFormat, accuracy_bound, sensitivities_in};
 use areawarp::real::{Mpfr256, Real, convert};
 use areawarp::shapes::{
-    ConcentricDisk, Hemisphere, MarginalInversion, PhongLobe, PlanarTriangle, PolarDisk,
-    ProjectedPolygon, Sphere, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
-    SphericalTriangleVariant, hard_rectangles, hard_triangles, ordinary_rectangles,
-    ordinary_triangles,
+    Beckmann, Bilinear, ConcentricDisk, Ggx, Hemisphere, MarginalInversion, PhongLobe,
+    PlanarTriangle, PlanarTriangleVariant, PolarDisk, ProjectedPolygon, Sphere, SphereLight,
+    SphericalLune, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
+    SphericalTriangleVariant, StdNormal, Tent, UniformCone, VonMisesFisher, hard_rectangles,
+    hard_triangles, lune_catalogue, ordinary_rectangles, ordinary_triangles, sphere_light_ladder,
 };
 use areawarp::vector::{Coords, Vec3};
 use areawarp::warp::{Warp, WarpFamily};
@@ -85,6 +86,15 @@ pub(crate) enum Built {
     SphericalTriangle(SphericalTriangle<f64>),
     SphericalRectangle(SphericalRectangle<f64>),
     ProjectedPolygon(ProjectedPolygon<f64>),
+    UniformCone(UniformCone<f64>),
+    SphereLight(SphereLight<f64>),
+    SphericalLune(SphericalLune<f64>),
+    VonMisesFisher(VonMisesFisher<f64>),
+    Beckmann(Beckmann<f64>),
+    Ggx(Ggx<f64>),
+    Bilinear(Bilinear<f64>),
+    Tent(Tent<f64>),
+    StdNormal(StdNormal<f64>),
 }
 
 /// Runs `$body` with `$w` bound to the concrete warp inside a [`Built`]
@@ -101,6 +111,15 @@ macro_rules! with_warp {
             Built::SphericalTriangle($w) => $body,
             Built::SphericalRectangle($w) => $body,
             Built::ProjectedPolygon($w) => $body,
+            Built::UniformCone($w) => $body,
+            Built::SphereLight($w) => $body,
+            Built::SphericalLune($w) => $body,
+            Built::VonMisesFisher($w) => $body,
+            Built::Beckmann($w) => $body,
+            Built::Ggx($w) => $body,
+            Built::Bilinear($w) => $body,
+            Built::Tent($w) => $body,
+            Built::StdNormal($w) => $body,
         }
     };
 }
@@ -123,7 +142,7 @@ pub(crate) struct ShapeEntry {
 }
 
 /// The warps of the studies, in report order.
-pub const WARPS: [&str; 9] = [
+pub const WARPS: [&str; 18] = [
     "planar-triangle",
     "polar-disk",
     "concentric-disk",
@@ -133,6 +152,15 @@ pub const WARPS: [&str; 9] = [
     "spherical-triangle",
     "spherical-rectangle",
     "projected-polygon",
+    "uniform-cone",
+    "sphere-light",
+    "spherical-lune",
+    "von-mises-fisher",
+    "beckmann",
+    "ggx",
+    "bilinear",
+    "tent",
+    "std-normal",
 ];
 
 /// The variant labels of the projected polygon's marginal inversion
@@ -162,6 +190,7 @@ pub fn warp_variants() -> Vec<(&'static str, Vec<&'static str>)> {
         .map(|&w| {
             let v: Vec<&'static str> = match w {
                 "sphere" => vec!["+z axis", "tilted axis"],
+                "planar-triangle" => vec!["closed form", "fold"],
                 "spherical-triangle" | "spherical-rectangle" => vec!["robust", "literal"],
                 "projected-polygon" => POLYGON_SETTINGS.iter().map(|s| s.0).collect(),
                 _ => vec!["closed form"],
@@ -267,13 +296,17 @@ pub(crate) fn catalogue(
         ),
     ] {
         let w = PlanarTriangle::new(a, b, c)?;
+        let fold = w.clone().with_variant(PlanarTriangleVariant::Fold);
         push(
             ShapeEntry {
                 warp: "planar-triangle",
                 shape: name.to_string(),
                 hard: false,
                 raw: flatten(&[a, b, c]),
-                variants: vec![("closed form", Built::PlanarTriangle(w))],
+                variants: vec![
+                    ("closed form", Built::PlanarTriangle(w)),
+                    ("fold", Built::PlanarTriangle(fold)),
+                ],
             },
             &mut n,
         );
@@ -410,7 +443,90 @@ pub(crate) fn catalogue(
             &mut n,
         );
     }
+    new_warps(&mut push)?;
     Ok(out)
+}
+
+/// The shapes of the warps of issue 12 (uniform cone … standard normal).
+fn new_warps(push: &mut impl FnMut(ShapeEntry, &mut usize)) -> Result<(), WarpError> {
+    let one = |warp: &'static str, shape: String, hard: bool, raw: Vec<f64>, b: Built| ShapeEntry {
+        warp,
+        shape,
+        hard,
+        raw,
+        variants: vec![("closed form", b)],
+    };
+    let mut n = 0;
+    for (name, c) in [("60°", 0.5), ("tiny", 0.999_999)] {
+        let w = Built::UniformCone(UniformCone::new(c)?);
+        push(one("uniform-cone", name.into(), false, vec![c], w), &mut n);
+    }
+    let mut n = 0;
+    for (name, p) in sphere_light_ladder() {
+        let w = SphereLight::new(v3(&p, 0), p[3], v3(&p, 4))?;
+        let hard = name.starts_with("near") || name.starts_with("axis");
+        push(
+            one(
+                "sphere-light",
+                name,
+                hard,
+                p.to_vec(),
+                Built::SphereLight(w),
+            ),
+            &mut n,
+        );
+    }
+    let mut n = 0;
+    for (name, p) in lune_catalogue() {
+        let w = Built::SphericalLune(SphericalLune::new(v3(&p, 0), v3(&p, 3))?);
+        push(one("spherical-lune", name, false, p.to_vec(), w), &mut n);
+    }
+    let mut n = 0;
+    for k in [10.0, 1e-8, 1e6] {
+        let w = Built::VonMisesFisher(VonMisesFisher::new(k)?);
+        push(
+            one("von-mises-fisher", format!("κ={k}"), false, vec![k], w),
+            &mut n,
+        );
+    }
+    for warp in ["beckmann", "ggx"] {
+        let mut n = 0;
+        for a in [0.3, 1e-4] {
+            let w = if warp == "ggx" {
+                Built::Ggx(Ggx::new(a)?)
+            } else {
+                Built::Beckmann(Beckmann::new(a)?)
+            };
+            push(one(warp, format!("α={a}"), false, vec![a], w), &mut n);
+        }
+    }
+    let mut n = 0;
+    for w4 in [[0.1, 2.0, 0.7, 3.0], [0.0, 1.0, 1.0, 0.0]] {
+        let w = Built::Bilinear(Bilinear::new(w4)?);
+        push(
+            one("bilinear", format!("{w4:?}"), false, w4.to_vec(), w),
+            &mut n,
+        );
+    }
+    let mut n = 0;
+    push(
+        one(
+            "tent",
+            "unit".into(),
+            false,
+            vec![],
+            Built::Tent(Tent::new()),
+        ),
+        &mut n,
+    );
+    let mut n = 0;
+    let w = Built::StdNormal(StdNormal::new());
+    push(one("std-normal", "unit".into(), false, vec![], w), &mut n);
+    Ok(())
+}
+
+fn v3(p: &[f64], i: usize) -> Vec3<f64> {
+    Vec3::new(p[i], p[i + 1], p[i + 2])
 }
 
 /// The input format of `T` (`f32` or `f64`).
@@ -474,8 +590,11 @@ impl StudyWarp for PlanarTriangle<f64> {
     fn kappas<T: Real>(&self, _raw: &[f64], points: &[(f64, f64)]) -> Result<Vec<f64>, WarpError> {
         let wt = self.at::<T>()?;
         let params = coords(&[wt.a(), wt.b(), wt.c()]);
+        let variant = self.variant();
         kappa_values(
-            |p: &[M]| PlanarTriangle::new(vec3_at(p, 0), vec3_at(p, 3), vec3_at(p, 6)),
+            |p: &[M]| {
+                PlanarTriangle::new_with(vec3_at(p, 0), vec3_at(p, 3), vec3_at(p, 6), variant)
+            },
             &params,
             points,
             format_of::<T>()?,
@@ -499,7 +618,35 @@ exact_without_parameters!(
     PolarDisk<f64>,
     ConcentricDisk<f64>,
     Hemisphere<f64>,
-    Sphere<f64>
+    Sphere<f64>,
+    Tent<f64>,
+    StdNormal<f64>
+);
+
+/// Warps built from their parameters `raw` (as given, in `f64`) by `$build`.
+macro_rules! exact_from_raw {
+    ($($t:ty => $build:expr),* $(,)?) => {$(
+        impl StudyWarp for $t {
+            fn exact(&self) -> Self {
+                self.clone()
+            }
+            fn is_exact(&self) -> bool {
+                true
+            }
+            fn kappas<T: Real>(&self, raw: &[f64], points: &[(f64, f64)]) -> Result<Vec<f64>, WarpError> {
+                kappa_values($build, raw, points, format_of::<T>()?)
+            }
+        }
+    )*};
+}
+exact_from_raw!(
+    UniformCone<f64> => |p: &[M]| UniformCone::new(p[0].clone()),
+    VonMisesFisher<f64> => |p: &[M]| VonMisesFisher::new(p[0].clone()),
+    Beckmann<f64> => |p: &[M]| Beckmann::new(p[0].clone()),
+    Ggx<f64> => |p: &[M]| Ggx::new(p[0].clone()),
+    Bilinear<f64> => |p: &[M]| Bilinear::new([p[0].clone(), p[1].clone(), p[2].clone(), p[3].clone()]),
+    SphereLight<f64> => |p: &[M]| SphereLight::new(vec3_at(p, 0), p[3].clone(), vec3_at(p, 4)),
+    SphericalLune<f64> => |p: &[M]| SphericalLune::new(vec3_at(p, 0), vec3_at(p, 3)),
 );
 
 impl StudyWarp for PhongLobe<f64> {
