@@ -123,7 +123,7 @@ impl InverseError {
 /// `Distribution::map` (which takes `self` by value) and does not compile;
 /// write `Warp::map(&w, &u, &v)` or use `w.sample_uv([u, v])`.
 pub trait Warp<T: Real> {
-    /// The points of M: [`Vec2`](crate::vector::Vec2) or [`Vec3`](crate::vector::Vec3).
+    /// The points of M: [`Vec2`](crate::vector::Vec2) or [`Vec3`].
     type Point: Coords<T>;
     /// ψ(u, v) for `u, v ∈ [0, 1]`; finite and on M (within rounding) for every
     /// such input, including the edges.
