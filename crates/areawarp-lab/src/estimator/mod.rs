@@ -40,15 +40,20 @@ pub enum Sampler {
     /// Cosine-weighted directions about the receiver's normal
     /// ([`strategies::cosine_sampling`]); the MIS partner of the others.
     Cosine,
+    /// The modern baseline: the spherical rectangle composed with a
+    /// bilinear warp of the corner cosines (Hart et al. 2020, pbrt-v4's
+    /// `SampleBilinear`; [`crate::scene::bilinear`]).
+    BilinearRectangle,
 }
 
 impl Sampler {
-    /// The four light samplers of the study, in table order.
-    pub const LIGHT: [Sampler; 4] = [
+    /// The light samplers of the study, in table order.
+    pub const LIGHT: [Sampler; 5] = [
         Sampler::Area,
         Sampler::TrianglePair,
         Sampler::Rectangle,
         Sampler::ProjectedPolygon,
+        Sampler::BilinearRectangle,
     ];
 
     /// A short name: `area`, `triangle pair`, `rectangle`, `projected polygon`, `cosine`.
@@ -59,6 +64,7 @@ impl Sampler {
             Sampler::Rectangle => "rectangle",
             Sampler::ProjectedPolygon => "projected polygon",
             Sampler::Cosine => "cosine",
+            Sampler::BilinearRectangle => "bilinear-cosine rectangle",
         }
     }
 
@@ -79,6 +85,9 @@ impl Sampler {
             Sampler::Rectangle => Box::new(strategies::spherical_rectangle(light, x)?),
             Sampler::ProjectedPolygon => Box::new(strategies::projected_polygon(light, receiver)?),
             Sampler::Cosine => Box::new(strategies::cosine_sampling(receiver)?),
+            Sampler::BilinearRectangle => Box::new(
+                crate::scene::bilinear::BilinearCosineRectangle::new(light, receiver)?,
+            ),
         })
     }
 }

@@ -332,13 +332,17 @@ where
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(xs, ys)
         .map_err(err)?;
-    let fmt = |v: &f64| tick_label(*v);
+    let snap = |span: f64| move |v: &f64| tick_label(if v.abs() < span * 1e-9 { 0.0 } else { *v });
+    let (fx, fy) = (
+        snap((clip.0.1 - clip.0.0).abs()),
+        snap((clip.1.1 - clip.1.0).abs()),
+    );
     chart
         .configure_mesh()
         .x_desc(plot.x.label.as_str())
         .y_desc(plot.y.label.as_str())
-        .x_label_formatter(&fmt)
-        .y_label_formatter(&fmt)
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
         .label_style((FONT, 12))
         .axis_desc_style((FONT, 14))
         .bold_line_style(RGBColor(225, 225, 225))
@@ -544,13 +548,12 @@ fn draw_heat_map<DB: DrawingBackend>(
     match map.value_scale {
         Scale::Log10 if lo > 0.0 => {
             let mut c = ChartBuilder::on(&bar_area)
-                .right_y_label_area_size(BAR_PANEL - 44)
+                .right_y_label_area_size(BAR_PANEL - 62)
                 .build_cartesian_2d(0.0..1.0, (lo..hi).log_scale())
                 .map_err(err)?;
             c.configure_mesh()
                 .disable_mesh()
                 .disable_x_axis()
-                .y_desc(label)
                 .y_label_formatter(&fmt)
                 .label_style((FONT, 11))
                 .axis_desc_style((FONT, 12))
@@ -568,13 +571,12 @@ fn draw_heat_map<DB: DrawingBackend>(
         }
         _ => {
             let mut c = ChartBuilder::on(&bar_area)
-                .right_y_label_area_size(BAR_PANEL - 44)
+                .right_y_label_area_size(BAR_PANEL - 62)
                 .build_cartesian_2d(0.0..1.0, lo..hi)
                 .map_err(err)?;
             c.configure_mesh()
                 .disable_mesh()
                 .disable_x_axis()
-                .y_desc(label)
                 .y_label_formatter(&fmt)
                 .label_style((FONT, 11))
                 .axis_desc_style((FONT, 12))
@@ -589,6 +591,21 @@ fn draw_heat_map<DB: DrawingBackend>(
             }))
             .map_err(err)?;
         }
+    }
+    if !label.is_empty() {
+        let (w, h) = bar.dim_in_pixel();
+        let style = TextStyle::from((FONT, 12).into_font())
+            .transform(FontTransform::Rotate270)
+            .pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Center,
+            ));
+        bar.draw_text(
+            label,
+            &style,
+            (w as i32 - 10, (h as i32 - X_LABEL_AREA as i32) / 2),
+        )
+        .map_err(err)?;
     }
     let _ = MISSING;
     Ok(pixels)

@@ -15,7 +15,7 @@ use super::light_cost::LightCost;
 use super::variance::VarianceStudy;
 use crate::estimator::{Method, PointSet, Sampler, Subset};
 use crate::figures::{self, Axis, Figure, PALETTE, Plot, Series};
-use crate::verdict::{Z95, interval};
+use crate::verdict::{Z95, interval, sig3};
 use areawarp::estimate::Heuristic;
 use std::fmt::Write as _;
 use std::io;
@@ -107,6 +107,12 @@ pub fn run(var: &VarianceStudy, lc: &LightCost) -> EqualTime {
     if let Some((e0, r0, s0)) = base {
         for r in &mut rows {
             r.efficiency /= e0;
+            if !(r.rms > 1e-12) {
+                // A zero-variance estimator: no finite efficiency.
+                r.efficiency = f64::INFINITY;
+                r.efficiency_se = f64::NAN;
+                continue;
+            }
             // Relative error of 1/rms² ≈ 2·se/rms, both rows' added in
             // quadrature (the rows are correlated: a conservative bound).
             let rel = 2.0 * ((r.rms_se / r.rms).powi(2) + (s0 / r0).powi(2)).sqrt();
@@ -144,16 +150,19 @@ impl EqualTime {
             "| method | ns/sample | RMS at {spp} spp | µs/receiver | efficiency (rectangle = 1) |\n|---|---:|---:|---:|---:|"
         );
         for r in &self.rows {
+            let efficiency = if r.efficiency.is_infinite() {
+                "∞ (zero variance: exact for this light)".to_string()
+            } else {
+                format!("{} ± {}", sig3(r.efficiency), sig3(Z95 * r.efficiency_se))
+            };
             let _ = writeln!(
                 s,
-                "| {} | {:.1} | {:.3e} ± {:.0}% | {:.1} | {:.3} ± {:.3} |",
+                "| {} | {:.1} | {:.3e} ± {:.0}% | {:.1} | {efficiency} |",
                 r.method,
                 r.ns,
                 r.rms,
                 100.0 * Z95 * r.rms_se / r.rms,
                 r.spp as f64 * r.ns * 1e-3,
-                r.efficiency,
-                Z95 * r.efficiency_se
             );
         }
         let _ = writeln!(s, "\n![equal time](equal_time.svg)\n");

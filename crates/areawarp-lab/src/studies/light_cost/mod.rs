@@ -76,6 +76,7 @@ impl LightCostConfig {
                 Sampler::TrianglePair,
                 Sampler::ProjectedPolygon,
                 Sampler::Cosine,
+                Sampler::BilinearRectangle,
             ],
         }
     }

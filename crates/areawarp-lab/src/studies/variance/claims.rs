@@ -381,7 +381,11 @@ impl VarianceStudy {
             // One row per sampler: the paper's Fig. 6 shows all three.
             for (smp, r, se) in finite {
                 out.push(Claim {
-                    source: source.to_string(),
+                    source: if matches!(smp, Sampler::ProjectedPolygon | Sampler::BilinearRectangle) {
+                        format!("{OUR_QUESTION} (not in the paper: its Fig. 6 shows area, triangle and rectangle sampling)")
+                    } else {
+                        source.to_string()
+                    },
                     statement: format!("{statement} ({})", smp.name()),
                     measured: format!(
                         "{set_name}, {n_max} spp (+ {n_max} cosine samples with MIS), all receivers: error without / with MIS (balance) = {} ± {} (95% interval {}; > 1: MIS lowers the error)",

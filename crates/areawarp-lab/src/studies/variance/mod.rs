@@ -187,13 +187,16 @@ impl Default for VarianceConfig {
             methods: Method::standard(&heuristic_samplers),
             heuristic_samplers,
             near_light: 0.05,
-            fit_levels: 3,
+            fit_levels: 5,
             occluders: Some(OccluderRow::standard()),
             occluded_methods: vec![
                 Method::plain(Sampler::Rectangle),
                 Method::plain(Sampler::TrianglePair),
                 Method::mis(Sampler::Rectangle, Heuristic::Balance),
                 Method::mis(Sampler::TrianglePair, Heuristic::Balance),
+                Method::plain(Sampler::Area),
+                Method::plain(Sampler::ProjectedPolygon),
+                Method::plain(Sampler::BilinearRectangle),
             ],
         }
     }

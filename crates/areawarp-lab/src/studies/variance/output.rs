@@ -142,6 +142,7 @@ impl VarianceStudy {
                         Sampler::Rectangle => 2,
                         Sampler::ProjectedPolygon => 3,
                         Sampler::Cosine => 4,
+                        Sampler::BilinearRectangle => 9,
                     };
                     let color = match method.mis {
                         None | Some(Heuristic::Balance) => PALETTE[i],
