@@ -324,7 +324,8 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
          `areawarp::adaptive` notes that this is biased once two or more samples fall to the residuals. The table gives \
          the mean of many independent n-sample estimates against the reference for the three rules (K = 0.1): \
          *relative bias* = (mean − I)/I, *± (1 se)* its standard error (estimates and reference), *z* = bias / se, \
-         *p* the two-sided p-value of z. The report's adaptive runs use the systematic rule.\n\n{}",
+         *p* the two-sided p-value of z (18 tests: one or two at p < 0.05 are expected by chance alone). The report's adaptive runs \
+         use the systematic rule.\n\n{}",
         ad.to_markdown(),
         crate::studies::adaptive_triangle::allocation_bias_markdown(&bias)
     );
