@@ -3,7 +3,7 @@
 
 use super::ggx::{PolarHemisphere, check_roughness};
 use super::hemisphere::upper_hemisphere_outside_by;
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -104,8 +104,8 @@ impl<T: Real> Warp<T> for Beckmann<T> {
             let s = one.clone() / &(one + &r.square()).sqrt();
             (s.clone(), r * &s)
         };
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, cos_theta)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, cos_theta)
     }
 
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {

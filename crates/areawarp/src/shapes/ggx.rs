@@ -3,7 +3,7 @@
 //! `docs/microfacet.md`.
 
 use super::hemisphere::upper_hemisphere_outside_by;
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -115,8 +115,8 @@ impl<T: Real> Warp<T> for Ggx<T> {
         let d = one_minus_u.clone() + &a2u;
         let cos_theta = (one_minus_u / &d).sqrt();
         let sin_theta = (a2u / &d).sqrt();
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, cos_theta)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, cos_theta)
     }
 
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {

@@ -4,7 +4,7 @@
 //! the sphere first. Derivation: `docs/sphere-light.md`.
 
 use super::local_frame::{LocalFrame, off_unit_sphere, one_minus_z, unit_vector};
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, positive, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
@@ -194,7 +194,12 @@ impl<T: Real> SphereLight<T> {
         let w = u.clone() * &self.h;
         let sin_theta = (w.clone() * &(T::from_i64(2) - &w)).sqrt();
         let cos_theta = T::one() - &w;
-        (w, sin_theta, cos_theta, cos_sin_turns(v, &self.half_pi))
+        (
+            w,
+            sin_theta,
+            cos_theta,
+            polar_turns(&T::one(), v, &self.half_pi),
+        )
     }
 
     /// ψ(u, v) with the first hit point on the sphere, its distance and

@@ -2,7 +2,7 @@
 //! as a warp of the square: `r = √(−2 ln(1 − u))`, `φ = 2πv`.
 //! Derivation: `docs/planar-densities.md`.
 
-use super::turns::{clamp_unit, cos_sin_turns, turns_of};
+use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec2;
@@ -92,8 +92,8 @@ impl<T: Real> Warp<T> for StdNormal<T> {
             -q.ln()
         };
         let r = (l * &T::from_i64(2)).sqrt();
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec2::new(r.clone() * &c, r * &s)
+        let (x, y) = polar_turns(&r, &clamp_unit(v), &self.half_pi);
+        Vec2::new(x, y)
     }
 
     fn pdf_unchecked(&self, p: &Vec2<T>) -> T {

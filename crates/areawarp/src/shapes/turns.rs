@@ -30,6 +30,7 @@ use crate::real::Real;
 /// `half_pi` is the caller's precomputed `π/2`. Dual numbers: `q` is an
 /// integer constant, so `r` carries the full derivative `4·dv`. A NaN `v`
 /// gives NaN coordinates.
+#[cfg(test)]
 pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
     polar_turns(&T::one(), v, half_pi)
 }

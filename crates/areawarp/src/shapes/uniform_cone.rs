@@ -2,7 +2,7 @@
 //! `1 − z = u·(1 − cos θ_max)`, `φ = 2πv`. Derivation: `docs/uniform-cone.md`.
 
 use super::local_frame::{off_unit_sphere, one_minus_z};
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -122,8 +122,8 @@ impl<T: Real> Warp<T> for UniformCone<T> {
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let w = clamp_unit(u) * &self.h;
         let sin_theta = (w.clone() * &(T::from_i64(2) - &w)).sqrt();
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, T::one() - &w)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, T::one() - &w)
     }
 
     fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {

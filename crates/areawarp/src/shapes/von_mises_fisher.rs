@@ -3,7 +3,7 @@
 //! beyond. Derivation: `docs/von-mises-fisher.md`.
 
 use super::local_frame::one_minus_z;
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
@@ -212,8 +212,8 @@ impl<T: Real> Warp<T> for VonMisesFisher<T> {
         } else {
             w_back - &T::one()
         };
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, z)
     }
 
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
