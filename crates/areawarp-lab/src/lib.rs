@@ -8,16 +8,20 @@
 //! | module | what it holds |
 //! |---|---|
 //! | [`cli`] | the `eval` and `report` subcommands |
-//! | [`studies`] | one module per study of the report |
+//! | [`studies`] | one folder per study of the report (its experiment, tables, figures) |
+//! | [`estimator`] | the estimator pieces the variance experiments share: strategies, MIS methods, point sets, the measurement engine |
+//! | [`verdict`] | the rule that judges a paper's claim against a measurement, with intervals and p-values |
 //! | [`scene`] | receivers, emitters, occluders and light-sampling strategies for the variance experiments |
-//! | [`figures`] | SVG/PNG line plots, scatter plots and heat maps, and their checker |
+//! | [`figures`] | SVG/PNG line plots, scatter plots and heat maps drawn with plotters, and their checker |
 //! | [`jobs`] | [`jobs::run_jobs`]: reproducible parallel estimator jobs on rayon |
-//! | [`progress`] | progress bars for long parallel steps |
+//! | [`progress`] | progress bars (indicatif) for long parallel steps |
 #![deny(missing_docs)]
 
 pub mod cli;
+pub mod estimator;
 pub mod figures;
 pub mod jobs;
 pub mod progress;
 pub mod scene;
 pub mod studies;
+pub mod verdict;

@@ -34,8 +34,9 @@ enum Command {
         /// Each line ends with a point instead of `u v`; print `MAP u v`.
         #[arg(long)]
         inverse: bool,
-        /// Solid-angle maps: `robust` (default) or the papers' `literal` algorithms.
-        #[arg(long, default_value = "robust", value_parser = ["robust", "literal"])]
+        /// Solid-angle maps: `robust` (default) or the papers' `literal`
+        /// algorithms; `planar-triangle`: `fold` for Heitz's fold map.
+        #[arg(long, default_value = "robust", value_parser = ["robust", "literal", "fold"])]
         variant: String,
         /// projected-polygon: Newton steps after the Vandermonde cubic (default: to convergence).
         #[arg(long)]
@@ -71,6 +72,7 @@ fn main() -> ExitCode {
             let opts = cli::eval::Options {
                 inverse,
                 literal: variant == "literal",
+                fold: variant == "fold",
                 newton,
                 tolerance: None,
             };

@@ -1,18 +1,20 @@
-//! Progress bars for long parallel runs ([`run_jobs`](crate::jobs::run_jobs)).
+//! Progress bars for long parallel runs ([`run_jobs`](crate::jobs::run_jobs)),
+//! drawn by [`indicatif`].
 //!
 //! Off by default: a library must not write to the terminal unasked. A
 //! program (the `areawarp report` command) turns them on with [`enable`]
 //! and names the current step with [`set_label`]; every [`run_jobs`]
-//! call of at least [`MIN_JOBS`] jobs then redraws one line on standard
-//! error as jobs complete — only when standard error is a terminal, so
-//! logs and CI output stay clean. Drawing never touches the jobs' results:
-//! studies stay deterministic.
+//! call of at least [`MIN_JOBS`] jobs then shows a bar on standard error
+//! as jobs complete — only when standard error is a terminal, so logs and
+//! CI output stay clean (indicatif's own terminal check, and ours). Drawing
+//! never touches the jobs' results: studies stay deterministic.
 //!
 //! [`run_jobs`]: crate::jobs::run_jobs
 
-use std::io::{IsTerminal, Write};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 static ENABLED: AtomicBool = AtomicBool::new(false);
 static LABEL: Mutex<String> = Mutex::new(String::new());
@@ -20,8 +22,8 @@ static LABEL: Mutex<String> = Mutex::new(String::new());
 /// Runs with fewer jobs than this draw no bar.
 pub const MIN_JOBS: usize = 16;
 
-/// Width of the bar in characters.
-const WIDTH: usize = 30;
+/// The bar's template: label, bar, percentage, count, elapsed and ETA.
+const TEMPLATE: &str = "{msg} [{bar:30}] {percent:>3}% ({pos}/{len}) {elapsed} eta {eta}";
 
 /// Turns progress bars on or off for the whole process (they are drawn
 /// only if standard error is a terminal).
@@ -42,25 +44,21 @@ pub fn set_label(label: &str) {
     }
 }
 
-/// The bar's text for `done` of `total` jobs: `label [#####-----] 50% (5/10)`.
-pub fn render(label: &str, done: usize, total: usize) -> String {
-    let total = total.max(1);
-    let done = done.min(total);
-    let filled = done * WIDTH / total;
-    format!(
-        "{label} [{}{}] {:3}% ({done}/{total})",
-        "#".repeat(filled),
-        "-".repeat(WIDTH - filled),
-        done * 100 / total
-    )
+/// A bar for `total` jobs, drawn to `target`, labelled with the current
+/// [`set_label`] text.
+fn bar(total: usize, target: ProgressDrawTarget) -> ProgressBar {
+    let label = LABEL.lock().map(|l| l.clone()).unwrap_or_default();
+    let style = ProgressStyle::with_template(TEMPLATE)
+        .expect("a valid template")
+        .progress_chars("#>-");
+    ProgressBar::with_draw_target(Some(total as u64), target)
+        .with_style(style)
+        .with_message(label)
 }
 
-/// Counts the completed jobs of one run and redraws the bar whenever the
-/// filled width changes (at most [`WIDTH`] redraws per run).
+/// Counts the completed jobs of one run on an indicatif bar.
 pub(crate) struct Tracker {
-    total: usize,
-    done: AtomicUsize,
-    label: String,
+    bar: ProgressBar,
 }
 
 impl Tracker {
@@ -69,33 +67,21 @@ impl Tracker {
         if !enabled() || total < MIN_JOBS {
             return None;
         }
-        let label = LABEL.lock().map(|l| l.clone()).unwrap_or_default();
         Some(Tracker {
-            total,
-            done: AtomicUsize::new(0),
-            label,
+            bar: bar(total, ProgressDrawTarget::stderr()),
         })
     }
 
-    /// One job completed.
+    /// One job completed (thread-safe: indicatif's bar is shared state).
     pub(crate) fn tick(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        let before = (done - 1) * WIDTH / self.total;
-        let now = done * WIDTH / self.total;
-        if now != before || done == 1 {
-            let mut err = std::io::stderr().lock();
-            let _ = write!(err, "\r{}", render(&self.label, done, self.total));
-            let _ = err.flush();
-        }
+        self.bar.inc(1);
     }
 }
 
 impl Drop for Tracker {
     /// Clears the bar's line.
     fn drop(&mut self) {
-        let mut err = std::io::stderr().lock();
-        let _ = write!(err, "\r{}\r", " ".repeat(self.label.len() + WIDTH + 24));
-        let _ = err.flush();
+        self.bar.finish_and_clear();
     }
 }
 
@@ -104,19 +90,14 @@ mod tests {
     use super::*;
 
     #[test]
-    fn bar_text() {
-        assert_eq!(
-            render("x", 0, 10),
-            format!("x [{}]   0% (0/10)", "-".repeat(WIDTH))
-        );
-        assert_eq!(
-            render("x", 5, 10),
-            format!("x [{}{}]  50% (5/10)", "#".repeat(15), "-".repeat(15))
-        );
-        assert_eq!(
-            render("x", 12, 10),
-            format!("x [{}] 100% (10/10)", "#".repeat(WIDTH))
-        );
+    fn bar_counts_jobs() {
+        set_label("x");
+        let b = bar(10, ProgressDrawTarget::hidden());
+        for _ in 0..5 {
+            b.inc(1);
+        }
+        assert_eq!((b.position(), b.length()), (5, Some(10)));
+        assert_eq!(b.message(), "x");
     }
 
     #[test]

@@ -109,11 +109,99 @@ fn reference(map: &str, params: &[Float], u: &Float, v: &Float) -> Vec<Float> {
                 })
                 .collect()
         }
+        "uniform-cone" | "von-mises-fisher" | "ggx" | "beckmann" => {
+            let z = match map {
+                "uniform-cone" => one.clone() - u.clone() * (one.clone() - &params[0]),
+                "von-mises-fisher" => {
+                    // z = 1 + ln(1 + u(e^(−2κ) − 1))/κ, from the antipode's
+                    // side (1 − u)(e^(2κ) − 1) for u > 1/2, where e^(−2κ)
+                    // is below even 256 bits' resolution of 1.
+                    let k = &params[0];
+                    if *u <= 0.5 {
+                        let e = (k.clone() * -2i32).exp_m1();
+                        one.clone() + (u.clone() * e).ln_1p() / k
+                    } else {
+                        let e = (k.clone() * 2u32).exp_m1();
+                        ((one.clone() - u) * e).ln_1p() / k - 1u32
+                    }
+                }
+                "ggx" => {
+                    let a2 = params[0].clone().square();
+                    let q = one.clone() - u;
+                    (q.clone() / (q + a2 * u)).sqrt()
+                }
+                _ => {
+                    // tan²θ = −α² ln(1 − u); at u = 1, z = 0.
+                    let t2 = -(params[0].clone().square()) * (one.clone() - u).ln();
+                    one.clone() / (one.clone() + t2).sqrt()
+                }
+            };
+            // max(0, ·): at u = 1, z = −1 up to the 256-bit rounding.
+            let r = (one - z.clone().square()).max(&f(0.0)).sqrt();
+            let [x, y] = polar(r, v);
+            vec![x, y, z]
+        }
+        "bilinear" => {
+            // Root of the linear CDF's quadratic (cancellation is harmless
+            // at 256 bits); uniform when the endpoints are equal.
+            let lin = |u: &Float, a: &Float, b: &Float| -> Float {
+                if a == b {
+                    return u.clone();
+                }
+                let root = (a.clone().square()
+                    + u.clone() * (b.clone().square() - a.clone().square()))
+                .sqrt();
+                (root - a) / (b.clone() - a)
+            };
+            let w = params;
+            let x = lin(u, &(w[0].clone() + &w[2]), &(w[1].clone() + &w[3]));
+            let a = (one.clone() - &x) * &w[0] + x.clone() * &w[1];
+            let b = (one.clone() - &x) * &w[2] + x.clone() * &w[3];
+            vec![x, lin(v, &a, &b)]
+        }
+        "tent" => {
+            let t = |u: &Float| -> Float {
+                if *u < 0.5 {
+                    (u.clone() * 2u32).sqrt() - 1u32
+                } else {
+                    one.clone() - ((one.clone() - u) * 2u32).sqrt()
+                }
+            };
+            vec![t(u), t(v)]
+        }
+        "std-normal" => {
+            let mut q = one.clone() - u;
+            if q.is_zero() {
+                q = Float::with_val(PREC, Float::i_exp(1, -120));
+            }
+            let r = (q.ln() * -2i32).sqrt();
+            polar(r, v).to_vec()
+        }
+        "planar-triangle-fold" => {
+            let (lb, lc) = if u >= v {
+                (u.clone() - v.clone() / 2u32, v.clone() / 2u32)
+            } else {
+                (u.clone() / 2u32, v.clone() - u.clone() / 2u32)
+            };
+            let la = one.clone() - u.clone().max(v);
+            (0..3)
+                .map(|i| {
+                    la.clone() * &params[i]
+                        + lb.clone() * &params[3 + i]
+                        + lc.clone() * &params[6 + i]
+                })
+                .collect()
+        }
         _ => unreachable!(),
     }
 }
 
 fn check(map: &str, params: &[&str], extent: f64) {
+    check_with(map, map, &[], params, extent);
+}
+
+/// As [`check`], with extra `args` and the reference formula `reference_of`.
+fn check_with(map: &str, reference_of: &str, args: &[&str], params: &[&str], extent: f64) {
     for prec in ["f32", "f64"] {
         let unit = if prec == "f32" {
             f32::EPSILON as f64 / 2.0
@@ -128,7 +216,9 @@ fn check(map: &str, params: &[&str], extent: f64) {
                 cases.push((u, v));
             }
         }
-        let (out, ok) = run_eval(&["--precision", prec], &input);
+        let mut all_args = vec!["--precision", prec];
+        all_args.extend_from_slice(args);
+        let (out, ok) = run_eval(&all_args, &input);
         assert!(ok, "{map} {prec}: eval failed:\n{out}");
         let lines: Vec<&str> = out.lines().collect();
         assert_eq!(lines.len(), cases.len());
@@ -142,7 +232,7 @@ fn check(map: &str, params: &[&str], extent: f64) {
                 got.iter().all(|x| x.is_finite()),
                 "{map} {prec} u={u} v={v}: non-finite {line}"
             );
-            let want = reference(map, &ps, &as_seen(u, prec), &as_seen(v, prec));
+            let want = reference(reference_of, &ps, &as_seen(u, prec), &as_seen(v, prec));
             assert_eq!(got.len(), want.len(), "{line}");
             for (g, w) in got.iter().zip(&want) {
                 let err = (f(*g) - w).abs().to_f64() / extent / unit;
@@ -153,7 +243,7 @@ fn check(map: &str, params: &[&str], extent: f64) {
                 );
             }
         }
-        println!("{map} {params:?} {prec}: max error {worst:.2} units of roundoff");
+        println!("{map} {args:?} {params:?} {prec}: max error {worst:.2} units of roundoff");
     }
 }
 
@@ -198,6 +288,56 @@ fn bad_lines_get_an_error_line_and_a_failing_status() {
     for l in &lines[1..] {
         assert!(l.contains(" error: "), "{l}");
     }
+}
+
+/// Runs `areawarp eval` on raw bytes: (stdout, exit code).
+fn run_eval_bytes(args: &[&str], input: &[u8]) -> (String, Option<i32>) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_areawarp"))
+        .arg("eval")
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("run areawarp");
+    child.stdin.take().unwrap().write_all(input).unwrap();
+    let out = child.wait_with_output().unwrap();
+    (String::from_utf8(out.stdout).unwrap(), out.status.code())
+}
+
+#[test]
+fn a_line_of_invalid_utf8_is_one_bad_line() {
+    // Line 2 has a stray 0xFF inside its numbers, line 4 is Latin-1 (é) in
+    // a comment-less word, line 5 starts with an invalid byte; the lines
+    // after each are still evaluated, CRLF endings are accepted.
+    let mut input = Vec::new();
+    input.extend_from_slice(b"hemisphere 0.25 0.5\n");
+    input.extend_from_slice(b"sphere 0.5 \xFF0.5\n");
+    input.extend_from_slice(b"disk 0.5 0\r\n");
+    input.extend_from_slice(b"caf\xE9 1 2\n");
+    input.extend_from_slice(b"\x80\n");
+    input.extend_from_slice(b"concentric-disk 1 0.5");
+    let (out, code) = run_eval_bytes(&["--precision", "f64"], &input);
+    assert_eq!(code, Some(1), "a bad line fails the run at its end: {out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 6, "{out}");
+    assert!(lines[0].starts_with("hemisphere ") && !lines[0].contains("error"));
+    assert_eq!(
+        lines[1],
+        "sphere error: line 2 is not valid UTF-8 (byte 0xFF at column 12)"
+    );
+    assert!(lines[2].starts_with("disk ") && !lines[2].contains("error"));
+    assert_eq!(
+        lines[3],
+        "caf\u{FFFD} error: line 4 is not valid UTF-8 (byte 0xE9 at column 4)"
+    );
+    assert_eq!(
+        lines[4],
+        "\u{FFFD} error: line 5 is not valid UTF-8 (byte 0x80 at column 1)"
+    );
+    assert!(lines[5].starts_with("concentric-disk ") && !lines[5].contains("error"));
+    // Valid input alone still succeeds.
+    let (_, code) = run_eval_bytes(&[], b"disk 0.5 0\r\nsphere 0 0\n");
+    assert_eq!(code, Some(0));
 }
 
 #[test]
@@ -356,4 +496,167 @@ fn eval_auto_precision() {
     assert!(!ok && out.contains("not representable"), "{out}");
     let (_, ok) = run_eval(&["--precision", "auto:0"], input);
     assert!(!ok);
+}
+
+#[test]
+fn new_warps_agree_with_independent_mpfr() {
+    for c in ["0.5", "0", "-1", "0.999999"] {
+        check("uniform-cone", &[c], 1.0);
+    }
+    for k in ["0.00000001", "0.0001", "1", "400", "1000000"] {
+        check("von-mises-fisher", &[k], 1.0);
+    }
+    for a in ["0.0001", "0.3", "1", "3"] {
+        check("ggx", &[a], 1.0);
+        check("beckmann", &[a], 1.0);
+    }
+    for w in [
+        ["1", "1", "1", "1"],
+        ["0.1", "2", "0.7", "3"],
+        ["0", "1", "1", "0"],
+    ] {
+        check("bilinear", &w, 1.0);
+    }
+    check("tent", &[], 1.0);
+    check("std-normal", &[], 16.0);
+    check_with(
+        "planar-triangle",
+        "planar-triangle-fold",
+        &["--variant", "fold"],
+        &["1", "2", "3", "-2", "0.5", "1", "0.5", "-1", "2"],
+        3.0,
+    );
+}
+
+/// The maps without an independent formula here (frames built from the
+/// parameters): properties of their output, and the inverse through the CLI.
+#[test]
+fn sphere_light_and_lune_through_the_cli() {
+    let light = "sphere-light 0.3 -1.2 2 0.7 0.1 0.2 -0.3";
+    let lune = "spherical-lune 0.3 0.8 -0.2 -0.6 0.1 0.7";
+    let mut input = String::new();
+    for u in UV {
+        for v in UV {
+            input += &format!("{light} {u} {v}\n{lune} {u} {v}\n");
+        }
+    }
+    let (out, ok) = run_eval(&[], &input);
+    assert!(ok, "{out}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 2 * UV.len() * UV.len());
+    let (c, o) = ([0.3, -1.2, 2.0], [0.1, 0.2, -0.3]);
+    let n = |x: [f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    let (n1, n2) = ([0.3, 0.8, -0.2], [-0.6, 0.1, 0.7]);
+    for pair in lines.chunks(2) {
+        let p = numbers(pair[0]);
+        assert_eq!(p.len(), 6, "{}", pair[0]);
+        let off = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+        assert!(
+            (n(off) - 0.7).abs() < 1e-14,
+            "{}: not on the sphere",
+            pair[0]
+        );
+        let to_p = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
+        let dist = n(to_p);
+        for i in 0..3 {
+            assert!((to_p[i] / dist - p[3 + i]).abs() < 1e-14, "{}", pair[0]);
+        }
+        let q = numbers(pair[1]);
+        assert!((n([q[0], q[1], q[2]]) - 1.0).abs() < 1e-15, "{}", pair[1]);
+        let d1 = q[0] * n1[0] + q[1] * n1[1] + q[2] * n1[2];
+        let d2 = q[0] * n2[0] + q[1] * n2[1] + q[2] * n2[2];
+        assert!(
+            d1 >= -1e-15 && d2 >= -1e-15,
+            "{}: outside the lune",
+            pair[1]
+        );
+    }
+    // Round trips: the light through its printed point and direction, the
+    // lune through its direction.
+    let (out, ok) = run_eval(&[], &format!("{light} 0.3 0.7\n{lune} 0.3 0.7\n"));
+    assert!(ok, "{out}");
+    let back_in: String = out
+        .lines()
+        .zip([light, lune])
+        .map(|(l, head)| {
+            format!(
+                "{head} {}\n",
+                l.split_whitespace().skip(1).collect::<Vec<_>>().join(" ")
+            )
+        })
+        .collect();
+    let (back, ok) = run_eval(&["--inverse"], &back_in);
+    assert!(ok, "{back}");
+    for l in back.lines() {
+        let uv = numbers(l);
+        assert!(
+            (uv[0] - 0.3).abs() < 1e-12 && (uv[1] - 0.7).abs() < 1e-12,
+            "{l}"
+        );
+    }
+    // Inside the sphere, parallel normals: error lines and a failing status.
+    let (out, ok) = run_eval(
+        &[],
+        "sphere-light 0 0 0 1 0 0 0.5 0.5 0.5\nspherical-lune 0 0 1 0 0 2 0.5 0.5\n",
+    );
+    assert!(!ok);
+    assert!(out.lines().all(|l| l.contains(" error: ")), "{out}");
+    assert!(out.contains("outside the sphere"), "{out}");
+}
+
+#[test]
+fn new_warps_invert_through_the_cli() {
+    let heads = [
+        "uniform-cone 0.25",
+        "von-mises-fisher 10",
+        "ggx 0.1",
+        "beckmann 0.1",
+        "bilinear 0.1 2 0.7 3",
+        "tent",
+        "std-normal",
+    ];
+    let input: String = heads.iter().map(|h| format!("{h} 0.3 0.7\n")).collect();
+    let (out, ok) = run_eval(&[], &input);
+    assert!(ok, "{out}");
+    let back_in: String = out
+        .lines()
+        .zip(heads)
+        .map(|(l, head)| {
+            format!(
+                "{head} {}\n",
+                l.split_whitespace()
+                    .skip(heads_len(head))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            )
+        })
+        .collect();
+    let (back, ok) = run_eval(&["--inverse"], &back_in);
+    assert!(ok, "{back}");
+    for l in back.lines() {
+        let uv = numbers(l);
+        assert!(
+            (uv[0] - 0.3).abs() < 1e-13 && (uv[1] - 0.7).abs() < 1e-13,
+            "{l}"
+        );
+    }
+    let tri = "planar-triangle 1 2 3 -2 0.5 1 0.5 -1 2";
+    let (out, ok) = run_eval(&["--variant", "fold"], &format!("{tri} 0.3 0.7\n"));
+    assert!(ok, "{out}");
+    let pt = out.split_whitespace().skip(1).collect::<Vec<_>>().join(" ");
+    let (back, ok) = run_eval(
+        &["--variant", "fold", "--inverse"],
+        &format!("{tri} {pt}\n"),
+    );
+    assert!(ok, "{back}");
+    let uv = numbers(back.lines().next().unwrap());
+    assert!(
+        (uv[0] - 0.3).abs() < 1e-14 && (uv[1] - 0.7).abs() < 1e-14,
+        "{back}"
+    );
+}
+
+/// The output line starts with the map's name only (parameters are not echoed).
+fn heads_len(_head: &str) -> usize {
+    1
 }

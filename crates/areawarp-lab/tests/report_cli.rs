@@ -19,7 +19,22 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         String::from_utf8_lossy(&out.stderr)
     );
     let index = std::fs::read_to_string(dir.join("index.md")).expect("index.md");
-    for section in ["Warps at a glance", "Shao", "|---|"] {
+    assert!(
+        index.starts_with("# areawarp report\n\n## Summary"),
+        "index.md opens with the summary"
+    );
+    for section in [
+        "Warps at a glance",
+        "Shao",
+        "|---|",
+        "| paper | where | claim | verdict (per-receiver) | verdict (image) |",
+        "### Verdicts that changed from the previous report",
+        "#### Departures from the papers' setups",
+        "# 2. Ureña 2000",
+        "The bias of the allocation rule",
+        "![Figure 1: ",
+        "*Figure 1.*",
+    ] {
         assert!(index.contains(section), "index.md lacks {section:?}");
     }
     // Issue 6's figures and tables, by name: the papers' sample
@@ -32,11 +47,15 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         "samples_spherical_rectangle_directions.svg",
         "samples_spherical_rectangle_points.svg",
         "speed_pareto.svg",
+        "speed_pareto_mpfr.svg",
         "variance_jittered.svg",
         "solid_angle_f32_error_uv.svg",
         "light_cost.csv",
         "variance_adaptive.svg",
         "variance_adaptive_curves.csv",
+        "variance_adaptive_occluded.svg",
+        "samples_spherical_triangle_jittered.png",
+        "solid_angle_f32_error_uv.png",
         "sample_figures.csv",
     ] {
         assert!(dir.join(name).is_file(), "the report did not write {name}");
@@ -58,19 +77,20 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
                 let check =
                     verify_figure(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
                 match check.kind {
+                    // Data drawn, and text: a title, axis labels, ticks.
                     FigureKind::Svg => assert!(
-                        check.marks >= 2,
-                        "{}: {} marks",
+                        check.marks >= 2 && check.texts >= 4,
+                        "{}: {} marks, {} texts",
                         path.display(),
-                        check.marks
+                        check.marks,
+                        check.texts
                     ),
-                    FigureKind::Png => {
-                        assert!(
-                            check.distinct_colors >= 2,
-                            "{}: a single colour",
-                            path.display()
-                        )
-                    }
+                    // Colours, and the dark pixels of axes and text.
+                    FigureKind::Png => assert!(
+                        check.distinct_colors >= 2 && check.dark_pixels >= 200,
+                        "{}: {check:?}",
+                        path.display()
+                    ),
                 }
                 let name = path.file_name().unwrap().to_str().unwrap();
                 assert!(index.contains(name), "index.md does not show {name}");

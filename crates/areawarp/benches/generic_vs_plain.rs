@@ -53,19 +53,20 @@ fn clamp_unit(u: f64) -> f64 {
     }
 }
 
-/// `(cos 2πv, sin 2πv)` by quarter turns (as `shapes::turns::cos_sin_turns`).
+/// `(r cos 2πv, r sin 2πv)` by quarter turns (as `shapes::turns::polar_turns`):
+/// q = rint(4v) by the 1.5·2^52 rounder, r·i^q exactly, then one product
+/// per coordinate.
 #[inline]
-fn cos_sin_turns(v: f64) -> (f64, f64) {
-    let four_v = v * 4.0;
-    let q = (four_v + 0.5).floor();
-    let r = four_v - q;
-    let (s, c) = (r * FRAC_PI_2).sin_cos();
-    match (q as i64).rem_euclid(4) {
-        0 => (c, s),
-        1 => (-s, c),
-        2 => (-c, -s),
-        _ => (s, -c),
-    }
+fn polar_turns(radius: f64, v: f64) -> (f64, f64) {
+    const ROUNDER: f64 = 6_755_399_441_055_744.0;
+    const COS_Q: [f64; 4] = [1.0, 0.0, -1.0, 0.0];
+    const SIN_Q: [f64; 4] = [0.0, 1.0, 0.0, -1.0];
+    let shifted = v * 4.0 + ROUNDER;
+    let quadrant = (shifted.to_bits() & 3) as usize;
+    let reduced = v * 4.0 - (shifted - ROUNDER);
+    let (rc, rs) = (radius * COS_Q[quadrant], radius * SIN_Q[quadrant]);
+    let (s, c) = (reduced * FRAC_PI_2).sin_cos();
+    (c * rc - s * rs, s * rc + c * rs)
 }
 
 /// Uniform hemisphere: z = 1 − u, sin θ = √(u (2 − u)).
@@ -74,8 +75,8 @@ fn plain_hemisphere(u: f64, v: f64) -> [f64; 3] {
     let u = clamp_unit(u);
     let z = 1.0 - u;
     let sin_theta = (u * (2.0 - u)).sqrt();
-    let (c, s) = cos_sin_turns(clamp_unit(v));
-    [sin_theta * c, sin_theta * s, z]
+    let (x, y) = polar_turns(sin_theta, clamp_unit(v));
+    [x, y, z]
 }
 
 /// Cosine lobe (k = 1): z = √u, sin θ = √(1 − u).
@@ -83,8 +84,8 @@ fn plain_hemisphere(u: f64, v: f64) -> [f64; 3] {
 fn plain_cosine(u: f64, v: f64) -> [f64; 3] {
     let u = clamp_unit(u);
     let (z, sin_theta) = (u.sqrt(), (1.0 - u).sqrt());
-    let (c, s) = cos_sin_turns(clamp_unit(v));
-    [sin_theta * c, sin_theta * s, z]
+    let (x, y) = polar_turns(sin_theta, clamp_unit(v));
+    [x, y, z]
 }
 
 /// General Phong lobe: l = ln(u)/(k+1), z = e^l, sin θ = √(−expm1(2l)).
@@ -94,8 +95,8 @@ fn plain_phong(inv_k1: f64, u: f64, v: f64) -> [f64; 3] {
     let l = u.ln() * inv_k1;
     let two_l = l + l;
     let (z, sin_theta) = (l.exp(), (-two_l.exp_m1()).sqrt());
-    let (c, s) = cos_sin_turns(clamp_unit(v));
-    [sin_theta * c, sin_theta * s, z]
+    let (x, y) = polar_turns(sin_theta, clamp_unit(v));
+    [x, y, z]
 }
 
 // ---------------------------------------------------------------------------

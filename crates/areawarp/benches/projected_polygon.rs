@@ -3,7 +3,9 @@
 //! the fitted cubic alone, the cubic followed by 1, 2, 3 safeguarded Newton
 //! steps, and Newton to convergence; in `f32` and `f64`, on four polygons
 //! (convex off the pole, a non-convex comb, a pentagon around the pole, a
-//! quadrilateral crossing the horizon). Also the construction cost.
+//! quadrilateral crossing the horizon). Also the construction cost, alone
+//! and followed by one sample (`build`, `one_shot`; filter with
+//! `-- projected_polygon/build` or `-- projected_polygon/one_shot`).
 //!
 //! Each measurement maps a fixed batch of 1024 `(u, v)` points (corners
 //! included) with the polygon built once:
@@ -125,12 +127,25 @@ fn map_in<T: Real>(c: &mut Criterion) {
     }
 }
 
-fn build_f64(c: &mut Criterion) {
-    let mut group = c.benchmark_group("projected_polygon/build/f64");
+/// Construction alone, and construction plus one sample (what a renderer
+/// pays per shading point when it builds the sampler on the fly).
+fn build_in<T: Real>(c: &mut Criterion) {
+    let mut group = c.benchmark_group(format!("projected_polygon/build/{}", T::type_name()));
     for (name, v) in polygons() {
-        let verts = vertices::<f64>(&v);
+        let verts = vertices::<T>(&v);
         group.bench_with_input(BenchmarkId::from_parameter(name), &verts, |b, verts| {
             b.iter(|| ProjectedPolygon::new(black_box(verts)).map(|w| w.measure()))
+        });
+    }
+    group.finish();
+    let mut group = c.benchmark_group(format!("projected_polygon/one_shot/{}", T::type_name()));
+    let (u, v) = (T::from_ratio(3, 10), T::from_ratio(7, 10));
+    for (name, verts) in polygons() {
+        let verts = vertices::<T>(&verts);
+        group.bench_with_input(BenchmarkId::from_parameter(name), &verts, |b, verts| {
+            b.iter(|| {
+                ProjectedPolygon::new(black_box(verts)).map(|w| w.map(black_box(&u), black_box(&v)))
+            })
         });
     }
     group.finish();
@@ -139,7 +154,8 @@ fn build_f64(c: &mut Criterion) {
 fn benches(c: &mut Criterion) {
     map_in::<f64>(c);
     map_in::<f32>(c);
-    build_f64(c);
+    build_in::<f64>(c);
+    build_in::<f32>(c);
 }
 
 criterion_group!(projected_polygon, benches);

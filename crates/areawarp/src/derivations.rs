@@ -17,6 +17,12 @@
 //! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
 //! | [`adaptive_triangle`] | Ureña's (2000) adaptive triangle sampler and its variance bound. |
 //! | [`precision_choice`] | The light shapes in `f32` (decisions in the wide type) and the precision chosen per shape from its conditioning. |
+//! | [`uniform_cone`] | The uniform cone (spherical cap). |
+//! | [`sphere_light`] | A sphere seen from a point: directions in the subtended cone and their hit points. |
+//! | [`spherical_lune`] | The spherical lune between two great circles. |
+//! | [`von_mises_fisher`] | The von Mises–Fisher distribution, κ from 0 to 10⁶. |
+//! | [`microfacet`] | The Beckmann and GGX microfacet normal distributions. |
+//! | [`planar_densities`] | The bilinear, tent and standard normal densities on the plane. |
 
 #[doc = include_str!("../docs/recipe.md")]
 pub mod recipe {}
@@ -50,3 +56,20 @@ pub mod adaptive_triangle {}
 
 #[doc = include_str!("../docs/precision-choice.md")]
 pub mod precision_choice {}
+#[doc = include_str!("../docs/uniform-cone.md")]
+pub mod uniform_cone {}
+
+#[doc = include_str!("../docs/sphere-light.md")]
+pub mod sphere_light {}
+
+#[doc = include_str!("../docs/spherical-lune.md")]
+pub mod spherical_lune {}
+
+#[doc = include_str!("../docs/von-mises-fisher.md")]
+pub mod von_mises_fisher {}
+
+#[doc = include_str!("../docs/microfacet.md")]
+pub mod microfacet {}
+
+#[doc = include_str!("../docs/planar-densities.md")]
+pub mod planar_densities {}

@@ -20,6 +20,8 @@
 //! The default build is pure Rust with `rand` as its only dependency.
 //! - `mpfr` (opt-in): MPFR scalars (`real::Mpfr`) via `rug`, which builds
 //!   GMP/MPFR from C sources; it enables the harness's 256-bit checks.
+//! - `mint`, `glam`, `nalgebra` (opt-in): `From`/`Into` between [`Vec2`]/[`Vec3`]
+//!   and those crates' vector and point types (see [`vector`]).
 #![deny(missing_docs)]
 
 pub mod adaptive;

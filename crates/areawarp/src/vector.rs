@@ -1,13 +1,31 @@
-//! The crate's one vector type family: small `Clone` vectors over any
-//! [`Real`], [`Vec2`] for planar points and [`Vec3`] for points in space.
+//! The crate's one vector type family: small vectors over any [`Real`],
+//! [`Vec2`] for planar points and [`Vec3`] for points in space.
 //!
 //! Own types rather than nalgebra's: every operation here works with
 //! non-`Copy` scalars (MPFR, dual numbers) through references, and the set of
-//! operations a warp needs is small.
+//! operations a warp needs is small. For `f32`/`f64` they behave like a
+//! renderer's vectors: `Copy`, with operators by value (`a + b`, `a * k`,
+//! `-a`, `a += b`; by reference `&a + &b`, `&a * &k` for every [`Real`]),
+//! `From`/`Into` arrays `[T; 2]`/`[T; 3]` (and tuples), and, behind the
+//! optional features `mint`, `glam` and `nalgebra`, `From`/`Into` the
+//! vector and point types of those crates.
+//!
+//! ```
+//! use areawarp::Vec3;
+//! let a = Vec3::from([1.0f32, 2.0, 3.0]);
+//! let b = Vec3::new(0.5f32, 0.5, 0.5);
+//! let c = (a - b) * 2.0 + -b;
+//! let arr: [f32; 3] = c.into();
+//! assert_eq!(arr, [0.5, 2.5, 4.5]);
+//! assert_eq!(a.dot(&b), 3.0); // a and b are Copy: still usable
+//! ```
+
+mod interop;
+mod ops;
 
 use crate::real::Real;
 
-/// A point or vector in the plane.
+/// A point or vector in the plane (`Copy` when `T` is).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec2<T> {
     /// First coordinate.
@@ -16,7 +34,7 @@ pub struct Vec2<T> {
     pub y: T,
 }
 
-/// A point or vector in space.
+/// A point or vector in space (`Copy` when `T` is).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Vec3<T> {
     /// First coordinate.

@@ -123,7 +123,7 @@ impl InverseError {
 /// `Distribution::map` (which takes `self` by value) and does not compile;
 /// write `Warp::map(&w, &u, &v)` or use `w.sample_uv([u, v])`.
 pub trait Warp<T: Real> {
-    /// The points of M: [`Vec2`](crate::vector::Vec2) or [`Vec3`](crate::vector::Vec3).
+    /// The points of M: [`Vec2`](crate::vector::Vec2) or [`Vec3`].
     type Point: Coords<T>;
     /// ψ(u, v) for `u, v ∈ [0, 1]`; finite and on M (within rounding) for every
     /// such input, including the edges.
@@ -151,6 +151,7 @@ pub trait Warp<T: Real> {
     }
     /// `(ψ(u, v), pdf(ψ(u, v)))` in one call: what a sampler needs. The
     /// default evaluates [`Warp::pdf_unchecked`] at the mapped point.
+    #[inline]
     fn map_with_pdf(&self, u: &T, v: &T) -> (Self::Point, T) {
         let p = self.map(u, v);
         let pdf = self.pdf_unchecked(&p);
@@ -161,6 +162,7 @@ pub trait Warp<T: Real> {
     /// (Named `sample_uv` rather than `sample` so that it never clashes with
     /// [`rand::distr::Distribution::sample`], which the `f32`/`f64` warps
     /// implement too.)
+    #[inline]
     fn sample_uv(&self, uv: [T; 2]) -> Sample<T, Self::Point> {
         let [u, v] = uv;
         let (point, pdf) = self.map_with_pdf(&u, &v);

@@ -1,16 +1,20 @@
 //! `areawarp eval`: one map evaluation per input line.
 //!
 //! Input lines are `MAP PARAMS… u v` (or `MAP PARAMS… POINT…` with
-//! `--inverse`); `#` lines and blank lines are skipped. Numbers are parsed
-//! directly in the chosen precision. Outputs are printed with enough digits
+//! `--inverse`); `#` lines and blank lines are skipped. Every line is
+//! answered on its own: a line that is not valid UTF-8 gets an error line
+//! with its line number, and the lines after it are still evaluated.
+//! Numbers are parsed directly in the chosen precision. Outputs are printed with enough digits
 //! to read back to the same value in that precision.
 
 use areawarp::real::Real;
 use areawarp::shapes::{
-    ConcentricDisk, Hemisphere, MarginalInversion, PhongLobe, PlanarTriangle, PolarDisk,
-    ProjectedPolygon, Sphere, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
-    SphericalTriangleVariant,
+    Beckmann, Bilinear, ConcentricDisk, Ggx, Hemisphere, MarginalInversion, PhongLobe,
+    PlanarTriangle, PlanarTriangleVariant, PolarDisk, ProjectedPolygon, Sphere, SphereLight,
+    SphericalLune, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
+    SphericalTriangleVariant, StdNormal, Tent, UniformCone, VonMisesFisher,
 };
+use areawarp::warp::LightWarp;
 use areawarp::{Coords, Vec3, Warp};
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
@@ -26,6 +30,8 @@ pub struct Options {
     pub inverse: bool,
     /// Use the papers' literal algorithms for the solid-angle maps.
     pub literal: bool,
+    /// `planar-triangle`: Heitz's fold map instead of Arvo's √u map.
+    pub fold: bool,
     /// Newton steps after the cubic for `projected-polygon` (`None`: to convergence).
     pub newton: Option<u32>,
     /// `--precision auto:TOL`: the largest error the caller accepts; the
@@ -75,20 +81,34 @@ pub fn main(precision: &str, mut opts: Options, file: Option<&Path>) -> ExitCode
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut failed = false;
-    for line in input.lines() {
-        let line = match line {
-            Ok(l) => l,
+    // Bytes, not `String` lines: a line that is not UTF-8 is one bad line
+    // (answered with an error line), not the end of the input.
+    let mut input = input;
+    let mut buf = Vec::new();
+    let mut line_number = 0usize;
+    loop {
+        buf.clear();
+        match input.read_until(b'\n', &mut buf) {
+            Ok(0) => break,
+            Ok(_) => {}
             Err(e) => {
                 eprintln!("error: reading input: {e}");
                 return ExitCode::from(2);
             }
-        };
-        let answer = match run(&line, &opts) {
-            None => continue,
-            Some(Ok(s)) => s,
-            Some(Err(s)) => {
+        }
+        line_number += 1;
+        let answer = match std::str::from_utf8(strip_line_end(&buf)) {
+            Ok(line) => match run(line, &opts) {
+                None => continue,
+                Some(Ok(s)) => s,
+                Some(Err(s)) => {
+                    failed = true;
+                    s
+                }
+            },
+            Err(e) => {
                 failed = true;
-                s
+                not_utf8_line(&buf, line_number, &e)
             }
         };
         if writeln!(out, "{answer}").is_err() {
@@ -100,6 +120,27 @@ pub fn main(precision: &str, mut opts: Options, file: Option<&Path>) -> ExitCode
     } else {
         ExitCode::SUCCESS
     }
+}
+
+/// The line without its `\n` or `\r\n` ending (as [`BufRead::lines`]).
+fn strip_line_end(line: &[u8]) -> &[u8] {
+    let line = line.strip_suffix(b"\n").unwrap_or(line);
+    line.strip_suffix(b"\r").unwrap_or(line)
+}
+
+/// The error line for input line `line_number` (1-based), which is not
+/// UTF-8: `MAP error: line N is not valid UTF-8 (byte 0xFF at column C)`,
+/// MAP being the line's first word (invalid bytes shown as U+FFFD, `?` for
+/// a line with no word).
+fn not_utf8_line(bytes: &[u8], line_number: usize, e: &std::str::Utf8Error) -> String {
+    let text = String::from_utf8_lossy(strip_line_end(bytes));
+    let name = text.split_whitespace().next().unwrap_or("?");
+    let at = e.valid_up_to();
+    format!(
+        "{name} error: line {line_number} is not valid UTF-8 (byte 0x{:02X} at column {})",
+        bytes[at],
+        at + 1
+    )
 }
 
 fn mpfr_evaluator(bits: &str) -> Option<LineEvaluator> {
@@ -155,8 +196,54 @@ fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, Stri
         "projected-polygon" => projected_polygon(n, opts),
         "planar-triangle" => {
             expect(n, 9, inverse, 3)?;
-            let w = PlanarTriangle::new(vec3(0), vec3(3), vec3(6)).map_err(|e| e.to_string())?;
+            let variant = if opts.fold {
+                PlanarTriangleVariant::Fold
+            } else {
+                PlanarTriangleVariant::SquareRoot
+            };
+            let w = PlanarTriangle::new_with(vec3(0), vec3(3), vec3(6), variant)
+                .map_err(|e| e.to_string())?;
             apply(&w, &n[9..], inverse)
+        }
+        "uniform-cone" => {
+            expect(n, 1, inverse, 3)?;
+            let w = UniformCone::new(n[0].clone()).map_err(|e| e.to_string())?;
+            apply(&w, &n[1..], inverse)
+        }
+        "sphere-light" => sphere_light(n, opts),
+        "spherical-lune" => {
+            expect(n, 6, inverse, 3)?;
+            let w = SphericalLune::new(vec3(0), vec3(3)).map_err(|e| e.to_string())?;
+            apply(&w, &n[6..], inverse)
+        }
+        "von-mises-fisher" => {
+            expect(n, 1, inverse, 3)?;
+            let w = VonMisesFisher::new(n[0].clone()).map_err(|e| e.to_string())?;
+            apply(&w, &n[1..], inverse)
+        }
+        "beckmann" => {
+            expect(n, 1, inverse, 3)?;
+            let w = Beckmann::new(n[0].clone()).map_err(|e| e.to_string())?;
+            apply(&w, &n[1..], inverse)
+        }
+        "ggx" => {
+            expect(n, 1, inverse, 3)?;
+            let w = Ggx::new(n[0].clone()).map_err(|e| e.to_string())?;
+            apply(&w, &n[1..], inverse)
+        }
+        "bilinear" => {
+            expect(n, 4, inverse, 2)?;
+            let w = Bilinear::new([n[0].clone(), n[1].clone(), n[2].clone(), n[3].clone()])
+                .map_err(|e| e.to_string())?;
+            apply(&w, &n[4..], inverse)
+        }
+        "tent" => {
+            expect(n, 0, inverse, 2)?;
+            apply(&Tent::<T>::new(), n, inverse)
+        }
+        "std-normal" => {
+            expect(n, 0, inverse, 2)?;
+            apply(&StdNormal::<T>::new(), n, inverse)
         }
         "disk" => {
             expect(n, 0, inverse, 2)?;
@@ -181,7 +268,8 @@ fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, Stri
         }
         _ => Err(format!(
             "unknown map {name:?} (known: planar-triangle, disk, concentric-disk, hemisphere, phong, sphere, \
-             spherical-triangle, spherical-rectangle, projected-polygon)"
+             spherical-triangle, spherical-rectangle, projected-polygon, uniform-cone, sphere-light, \
+             spherical-lune, von-mises-fisher, beckmann, ggx, bilinear, tent, std-normal)"
         )),
     }
 }
@@ -231,6 +319,50 @@ fn spherical_rectangle<T: Real>(n: &[T], opts: &Options) -> Result<String, Strin
     let (u, v) = (&n[12], &n[13]);
     check_unit(u, v)?;
     let (p, d) = w.sample_point(u, v);
+    Ok(join(&[p.x, p.y, p.z, d.x, d.y, d.z]))
+}
+
+/// `sphere-light cx cy cz r ox oy oz u v` → `point direction` (the first
+/// hit on the sphere, then the unit direction from `o`); with `--inverse`
+/// the line ends with a direction (3 numbers) or with the point and
+/// direction printed by the forward map (6 numbers; the point is used).
+fn sphere_light<T: Real>(n: &[T], opts: &Options) -> Result<String, String> {
+    let vec3 = |i: usize| Vec3::new(n[i].clone(), n[i + 1].clone(), n[i + 2].clone());
+    let tail = n.len().saturating_sub(7);
+    let ok = if opts.inverse {
+        tail == 3 || tail == 6
+    } else {
+        tail == 2
+    };
+    if n.len() < 7 || !ok {
+        let what = if opts.inverse {
+            "a direction (3) or a point and direction (6)"
+        } else {
+            "u v"
+        };
+        return Err(format!(
+            "expected 7 parameters (c, r, o) then {what}, got {} numbers",
+            n.len()
+        ));
+    }
+    let w = SphereLight::new(vec3(0), n[3].clone(), vec3(4)).map_err(|e| e.to_string())?;
+    if opts.inverse {
+        let [u, v] = if tail == 6 {
+            w.inverse_point(&vec3(7))
+        } else {
+            w.inverse(&vec3(7))
+        }
+        .map_err(|e| e.to_string())?;
+        return Ok(format!(
+            "{} {}",
+            u.to_roundtrip_string(),
+            v.to_roundtrip_string()
+        ));
+    }
+    let (u, v) = (&n[7], &n[8]);
+    check_unit(u, v)?;
+    let s = w.sample_light([u.clone(), v.clone()]);
+    let (p, d) = (s.point, s.direction);
     Ok(join(&[p.x, p.y, p.z, d.x, d.y, d.z]))
 }
 

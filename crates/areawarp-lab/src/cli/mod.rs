@@ -3,3 +3,4 @@
 pub mod eval;
 pub mod eval_auto;
 pub mod report;
+pub mod summary;

@@ -57,6 +57,7 @@
 //! # Ok::<(), areawarp::WarpError>(())
 //! ```
 
+pub mod bilinear;
 mod emitter;
 pub mod lambert;
 mod polygon;

@@ -1,4 +1,5 @@
-//! The studies behind `areawarp report`: each a module with a small API —
+//! The studies behind `areawarp report`: each a folder (its experiment,
+//! its tables, its figures, its tests) with a small API —
 //! a configuration with quick and default sizes, a `run` returning plain
 //! data, and writers for Markdown, CSV and figures ([`crate::figures`]).
 //!
@@ -15,10 +16,12 @@
 //! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
 //! | [`adaptive_comparison`] | Ureña 2000 §5: stratified solid-angle and cosine-weighted sampling against adaptive sampling with K = ∞, 0.1, 0.001 at equal sample counts on a patterned triangle light with occluders; attached to the variance study |
 //! | [`light_cost`] (feature `mpfr`) | Ureña et al. 2013's cost claim: ns per sample of area, spherical-rectangle, triangle-pair, projected-polygon and cosine sampling of the standing light, alone and inside the estimator with 0, 3 and many occluders; construction per receiver; ratios to area sampling |
+//! | [`equal_time`] | the variance study's methods at equal time: error against µs per receiver and efficiency 1/(MSE·time), with one cost per map (the light-cost study's estimator workload) |
 //! | [`variance`] | Ureña, Fajardo & King 2013, Fig. 4/7: relative RMS error vs spp of area, triangle-pair, spherical-rectangle and projected-polygon sampling of a standing rectangular light, with and without MIS; samples at equal error |
 
 pub mod adaptive_comparison;
 pub mod adaptive_triangle;
+pub mod equal_time;
 
 pub mod light_cost;
 
@@ -29,3 +32,6 @@ pub mod solid_angle_of_object;
 
 pub mod speed;
 pub mod variance;
+// New studies: add `pub mod <name>;` here and one line in
+// `cli::report::EXTRA_STUDIES` (e.g. `precision_choice`: f32 vs mixed vs
+// f64 per shape).

@@ -85,6 +85,7 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     /// The concentric map; `u`, `v` clamped to `[0, 1]` (NaN counts as 0).
     /// `2u − 1` is exact for `u ≥ 1/4`; the angle `(π/4)·ratio` stays within
     /// `[−π/4, π/4]`, where sin and cos are well conditioned.
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec2<T> {
         let a = clamp01(u) * T::from_i64(2) - &T::one();
         let b = clamp01(v) * T::from_i64(2) - &T::one();
@@ -104,6 +105,7 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     }
 
     /// `1/π`, whatever `p` (not checked).
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }

@@ -1,7 +1,7 @@
 //! Uniform sampling of the unit disk in polar coordinates: Arvo (2001),
 //! §1.3.2, eq. (1.23). Derivation and numerical choices: `docs/disk.md`.
 
-use super::turns::{clamp01, cos_sin_turns, turns_of};
+use super::turns::{clamp01, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -82,13 +82,15 @@ impl<T: Real> Warp<T> for PolarDisk<T> {
     type Point = Vec2<T>;
 
     /// √u·(cos 2πv, sin 2πv); `u`, `v` clamped to `[0, 1]` (NaN counts as 0).
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec2<T> {
         let r = clamp01(u).sqrt();
-        let (c, s) = cos_sin_turns(&clamp01(v), &self.half_pi);
-        Vec2::new(r.clone() * &c, r * &s)
+        let (x, y) = polar_turns(&r, &clamp01(v), &self.half_pi);
+        Vec2::new(x, y)
     }
 
     /// `1/π`, whatever `p` (not checked).
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec2<T>) -> T {
         self.inv_pi.clone()
     }
@@ -174,8 +176,8 @@ impl<T: Real> Parametrization<T> for PolarDiskRecipe<T> {
     /// φ(s, t) = s·(cos 2πt, sin 2πt, 0), with the reduced evaluation of the
     /// angle of [`PolarDisk`].
     fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
-        let (c, sn) = cos_sin_turns(t, &S::embed(&self.disk.half_pi));
-        Vec3::new(s.clone() * &c, s.clone() * &sn, S::zero())
+        let (x, y) = polar_turns(s, t, &S::embed(&self.disk.half_pi));
+        Vec3::new(x, y, S::zero())
     }
 
     /// `(s, t) = (|p|, atan2(y, x)/(2π) in [0, 1))` of the point's `x`, `y`.

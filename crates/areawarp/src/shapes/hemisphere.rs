@@ -1,7 +1,7 @@
 //! Uniform sampling of the unit upper hemisphere (Arvo 2001, §1.3.3,
 //! eq. 1.26): `z = 1 − u`, `φ = 2πv`. Derivation: `docs/hemisphere.md`.
 
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -92,15 +92,17 @@ pub(crate) fn upper_hemisphere_outside_by<T: Real>(p: &Vec3<T>) -> T {
 impl<T: Real> Warp<T> for Hemisphere<T> {
     type Point = Vec3<T>;
 
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let u = clamp_unit(u);
         let one = T::one();
         let z = one.clone() - &u;
         let sin_theta = (u.clone() * &(T::from_i64(2) - &u)).sqrt();
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, z)
     }
 
+    #[inline]
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         if p.z < T::zero() {
             T::zero()

@@ -3,7 +3,7 @@
 //! Derivation: `docs/phong.md`.
 
 use super::hemisphere::upper_hemisphere_outside_by;
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, positive, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -187,6 +187,7 @@ impl<T: Real> PhongLobe<T> {
     }
 
     /// `(z, sin θ)` for `u ∈ [0, 1]`, without cancellation.
+    #[inline]
     fn height_and_radius(&self, u: &T) -> (T, T) {
         let one = T::one();
         match self.kind {
@@ -211,14 +212,30 @@ impl<T: Real> PhongLobe<T> {
 impl<T: Real> Warp<T> for PhongLobe<T> {
     type Point = Vec3<T>;
 
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let (z, sin_theta) = self.height_and_radius(&clamp_unit(u));
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z)
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        Vec3::new(x, y, z)
     }
 
+    #[inline]
     fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         cos_power(p, self.kind, &self.half_k) * &self.norm
+    }
+
+    /// The point and its density from the map's own `z = cos θ` for `k = 0`
+    /// and `k = 1` (`(k+1)/(2π)·z^k`: no normalization of the point, which
+    /// is on the sphere to rounding), [`Warp::pdf_unchecked`] otherwise.
+    #[inline]
+    fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
+        let p = self.map(u, v);
+        let pdf = match self.kind {
+            Kind::Uniform => self.norm.clone(),
+            Kind::Cosine => p.z.clone() * &self.norm,
+            Kind::General => self.pdf_unchecked(&p),
+        };
+        (p, pdf)
     }
 
     fn measure(&self) -> T {

@@ -2,7 +2,7 @@
 //! (Shao & Badler 1996): `z = 1 − 2u`, `φ = 2πv`, optionally about a
 //! rotated (e.g. random) axis. Derivation: `docs/sphere.md`.
 
-use super::turns::{clamp_unit, cos_sin_turns, on_shape_tolerance, positive, turns_of};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
@@ -290,20 +290,22 @@ impl<T: Real> Default for Sphere<T> {
 impl<T: Real> Warp<T> for Sphere<T> {
     type Point = Vec3<T>;
 
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let u = clamp_unit(u);
         let one = T::one();
         let two = T::from_i64(2);
         let z = one.clone() - &(u.clone() * &two);
         let sin_theta = (u.clone() * &(one - &u)).sqrt() * &two;
-        let (c, s) = cos_sin_turns(&clamp_unit(v), &self.half_pi);
-        let local = Vec3::new(sin_theta.clone() * &c, sin_theta * &s, z);
+        let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
+        let local = Vec3::new(x, y, z);
         match &self.frame {
             Some(f) => f.to_world(&local),
             None => local,
         }
     }
 
+    #[inline]
     fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
         self.inv_four_pi.clone()
     }

@@ -5,7 +5,9 @@ use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Inverter, Newton};
-use crate::shapes::polygon_measures::{oriented_solid_angle, turning_parts};
+use crate::shapes::polygon_measures::{
+    oriented_solid_angle_with_turning, rough_angle, turning_parts,
+};
 use crate::vector::Vec3;
 
 fn degenerate(what: &'static str) -> WarpError {
@@ -32,13 +34,29 @@ pub(super) struct Built<T> {
     pub edges: Vec<LuneEdge<T>>,
     pub pairs: Vec<Pair<T>>,
     pub active: Vec<usize>,
-    pub fits: Vec<[SideFit<T>; 2]>,
     pub measure: T,
     pub solid_angle: T,
 }
 
-/// `v / |v|`, scaling by the largest coordinate first (no overflow or
-/// underflow for huge or subnormal input).
+/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is divided by
+/// its largest coordinate first, after which `|v|` is a plain square root
+/// (no overflow or underflow for huge or subnormal input, and none of the
+/// two `hypot` calls of [`Vec3::normalized`]).
+pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
+    let m = v.max_abs();
+    if !(m > T::zero() && m.is_finite()) {
+        return None;
+    }
+    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
+    let n = w.dot(&w).sqrt();
+    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
+}
+
+/// `v / |v|` with the errors a polygon vertex or a receiver normal gets:
+/// `v` is scaled by the reciprocal of its largest coordinate (so that
+/// directions that are positive multiples of each other usually coincide
+/// after normalization, which the coincident-vertex test relies on), then
+/// divided by its length, a plain square root after the scaling.
 pub(super) fn unit_direction<T: Real>(
     v: &Vec3<T>,
     what: &'static str,
@@ -46,13 +64,17 @@ pub(super) fn unit_direction<T: Real>(
     if !v.is_finite() {
         return Err(WarpError::NonFinite { what });
     }
+    let zero = || degenerate("a polygon vertex direction is the zero vector");
     let m = v.max_abs();
     if !(m > T::zero()) {
-        return Err(degenerate("a polygon vertex direction is the zero vector"));
+        return Err(zero());
     }
     let w = v.scale(&(T::one() / &m));
-    w.normalized()
-        .ok_or_else(|| degenerate("a polygon vertex direction is the zero vector"))
+    let n = w.dot(&w).sqrt();
+    if !(n > T::zero() && n.is_finite()) {
+        return Err(zero());
+    }
+    Ok(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
 }
 
 /// Validates the vertices, normalizes them and orients the polygon so that
@@ -80,7 +102,10 @@ pub(super) fn prepare<T: Real>(vertices: &[Vec3<T>]) -> Result<(Vec<Vec3<T>>, T)
     }
     // A vertex where the boundary turns by ±π leaves the two sides undefined.
     let u = T::unit_roundoff();
+    // The turning angles serve twice: this test, and (roughly) the
+    // Gauss–Bonnet sum that fixes the multiple of 4π of the solid angle.
     let fold = T::from_i64(64) * &u;
+    let mut turning = 0.0f64;
     for i in 0..n {
         let (det, cos_part) = turning_parts(&v[(i + n - 1) % n], &v[i], &v[(i + 1) % n]);
         if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
@@ -88,10 +113,11 @@ pub(super) fn prepare<T: Real>(vertices: &[Vec3<T>]) -> Result<(Vec<Vec3<T>>, T)
                 "the polygon folds straight back on itself at a vertex",
             ));
         }
+        turning += rough_angle(&det, &cos_part);
     }
     let two_pi = T::pi() * &T::from_i64(2);
     let four_pi = two_pi.clone() * &T::from_i64(2);
-    let omega = oriented_solid_angle(&v);
+    let omega = oriented_solid_angle_with_turning(&v, turning);
     let slack = T::from_i64(16 * n as i64) * &u * &two_pi;
     if !(omega > T::zero() && omega < four_pi) {
         return Err(degenerate("the polygon has zero solid angle"));
@@ -116,7 +142,7 @@ fn horizon_crossing<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
     let p = b.scale(&a.z).sub(&a.scale(&b.z));
     let p = if a.z < T::zero() { p.neg() } else { p };
     let p = Vec3::new(p.x, p.y, T::zero());
-    p.normalized().unwrap_or_else(|| a.clone())
+    scaled_unit(&p).unwrap_or_else(|| a.clone())
 }
 
 /// Clips the oriented polygon against the horizon `z ≥ 0`: the parts of
@@ -132,7 +158,7 @@ pub(super) fn clip<T: Real>(v: &[Vec3<T>]) -> Result<Vec<Arc<T>>, WarpError> {
     let mut entries: Vec<Vec3<T>> = Vec::new();
     for i in 0..n {
         let (a, b) = (&v[i], &v[(i + 1) % n]);
-        let normal = match a.cross(b).normalized() {
+        let normal = match scaled_unit(&a.cross(b)) {
             Some(m) => m,
             None => return Err(degenerate("coincident consecutive vertices")),
         };
@@ -250,15 +276,28 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         .iter()
         .filter(|a| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
         .collect();
-    let azimuth = |p: &Vec3<T>| p.y.atan2(&p.x);
+    // The azimuths of the usable arcs' ends, once per point: an arc that
+    // starts where the previous one ends (cyclically) reuses its azimuth.
+    let mut azimuths: Vec<(T, T)> = usable
+        .iter()
+        .map(|a| (T::zero(), a.b.y.atan2(&a.b.x)))
+        .collect();
+    for i in 0..usable.len() {
+        let prev = (i + usable.len() - 1) % usable.len();
+        azimuths[i].0 = if usable[prev].b == usable[i].a {
+            azimuths[prev].1.clone()
+        } else {
+            usable[i].a.y.atan2(&usable[i].a.x)
+        };
+    }
     // Vertex meridians. Azimuths within rounding of each other (an edge
     // lying along a meridian, computed with n_z a few units of roundoff off
     // zero) are one meridian: no lune thinner than `merge` is formed, so the
     // partition does not depend on the rounding of such edges.
     let mut raw: Vec<T> = Vec::with_capacity(2 * usable.len());
-    for a in &usable {
-        raw.push(azimuth(&a.a));
-        raw.push(azimuth(&a.b));
+    for (za, zb) in &azimuths {
+        raw.push(za.clone());
+        raw.push(zb.clone());
     }
     raw.sort_by(|x, y| x.partial_cmp(y).unwrap_or(core::cmp::Ordering::Equal));
     raw.dedup();
@@ -298,9 +337,15 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         }
     };
     let slack = T::exp2i(-((T::precision() / 2) as i32));
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); m];
+    // (lune, arc) for every arc crossing a lune, grouped by lune below.
+    let mut members: Vec<(usize, usize)> = Vec::with_capacity(2 * usable.len());
+    // The meridian index of each usable arc's ends.
+    let ends: Vec<(usize, usize)> = azimuths
+        .iter()
+        .map(|(za, zb)| (index(za), index(zb)))
+        .collect();
     for (ai, a) in usable.iter().enumerate() {
-        let (ia, ib) = (index(&azimuth(&a.a)), index(&azimuth(&a.b)));
+        let (ia, ib) = ends[ai];
         if ia == ib {
             continue;
         }
@@ -322,7 +367,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         }
         let mut k = first;
         while k != last {
-            members[k].push(ai);
+            members.push((k, ai));
             k = (k + 1) % m;
         }
     }
@@ -338,37 +383,61 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     // Do arcs `i` and `j` share an endpoint on meridian number `k`?
     let share_at = |i: usize, j: usize, k: usize| -> bool {
         let (p, q) = (usable[i], usable[j]);
-        [&p.a, &p.b]
+        [(&p.a, ends[i].0), (&p.b, ends[i].1)]
             .iter()
-            .any(|e| (**e == q.a || **e == q.b) && index(&azimuth(e)) == k)
+            .any(|(e, ke)| (**e == q.a || **e == q.b) && *ke == k)
     };
+    // Stable: each lune's arcs stay in boundary order.
+    members.sort_by_key(|&(k, _)| k);
+    // (sin, cos) of each meridian, computed once and shared by the lunes on
+    // either side (the last lune ends one turn after the first meridian).
+    let mut start_sc = bounds[0].sin_cos();
     let mut lunes = Vec::with_capacity(m);
-    let mut edges: Vec<LuneEdge<T>> = Vec::new();
-    let mut pairs: Vec<Pair<T>> = Vec::new();
+    let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(members.len());
+    let mut pairs: Vec<Pair<T>> = Vec::with_capacity(members.len());
     let mut magnitude = T::zero();
-    for (k, list) in members.iter().enumerate() {
-        let start = bounds[k].clone();
+    let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::new();
+    let mut next_member = 0;
+    for (k, start) in bounds.iter().enumerate() {
+        let start = start.clone();
         let end_az = end_of(k);
         let w = width(k);
-        let (sin_a, cos_a) = start.sin_cos();
+        let (sin_a, cos_a) = start_sc;
         let (sin_b, cos_b) = end_az.sin_cos();
-        let mut lune_edges: Vec<(usize, LuneEdge<T>)> = list
-            .iter()
-            .map(|&ai| {
-                let n = &usable[ai].n;
-                (
-                    ai,
-                    LuneEdge::new([&n.x, &n.y, &n.z], (&cos_a, &sin_a), (&cos_b, &sin_b)),
-                )
-            })
-            .collect();
+        start_sc = (sin_b.clone(), cos_b.clone());
+        lune_edges.clear();
+        while next_member < members.len() && members[next_member].0 == k {
+            let ai = members[next_member].1;
+            let n = &usable[ai].n;
+            lune_edges.push((
+                ai,
+                LuneEdge::new([&n.x, &n.y, &n.z], (&cos_a, &sin_a), (&cos_b, &sin_b)),
+            ));
+            next_member += 1;
+        }
+        // (sin Δ, cos Δ): the area below, and the middle meridian by the
+        // half-angle formulas (each from the side without cancellation).
+        let (s1, c1) = if lune_edges.is_empty() {
+            // A lune the polygon does not cover: no area, no sort.
+            (zero.clone(), T::one())
+        } else {
+            w.sin_cos()
+        };
         // Sort outwards at the middle meridian; check the order at the ends.
         let r2_at = |e: &LuneEdge<T>, side: Side, c: &T, s: &T| -> T {
             let sd = &e.side[side as usize];
             let g = sd.g0.clone() * c + &(sd.k0.clone() * s);
             e.nz2.clone() / &(e.nz2.clone() + &g.square())
         };
-        let (sm, cm) = (w.clone() * &half).sin_cos();
+        let (sm, cm) = if lune_edges.len() < 2 {
+            (zero.clone(), T::one())
+        } else if c1 >= zero {
+            let cm = ((T::one() + &c1) * &half).sqrt();
+            (s1.clone() / &(cm.clone() * &T::from_i64(2)), cm)
+        } else {
+            let sm = ((T::one() - &c1) * &half).sqrt();
+            (sm.clone(), s1.clone() / &(sm * &T::from_i64(2)))
+        };
         lune_edges.sort_by(|p, q| {
             r2_at(&p.1, Side::Start, &cm, &sm)
                 .partial_cmp(&r2_at(&q.1, Side::Start, &cm, &sm))
@@ -386,15 +455,18 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             }
         }
         // Boundaries alternate inner/outer and the outermost is outer.
-        let outer: Vec<bool> = lune_edges.iter().map(|e| e.1.nz > zero).collect();
-        if let Some(last) = outer.last()
-            && (!*last || outer.windows(2).any(|p| p[0] == p[1]))
+        let is_outer = |e: &(usize, LuneEdge<T>)| e.1.nz > zero;
+        if let Some(last) = lune_edges.last()
+            && (!is_outer(last)
+                || lune_edges
+                    .windows(2)
+                    .any(|p| is_outer(&p[0]) == is_outer(&p[1])))
         {
             return Err(degenerate(
                 "self-intersecting polygon (inconsistent edge orientation)",
             ));
         }
-        let pole_inside = outer.first().copied().unwrap_or(false);
+        let pole_inside = lune_edges.first().is_some_and(is_outer);
         let first_edge = edges.len();
         let first_pair = pairs.len();
         let mut j = 0;
@@ -426,14 +498,15 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
-        edges.extend(lune_edges.into_iter().map(|e| e.1));
+        edges.extend(lune_edges.drain(..).map(|e| e.1));
         let mut lune = Lune {
             start,
             end_az,
             width: w.clone(),
             cs_a: (cos_a, sin_a),
             cs_b: (cos_b, sin_b),
-            two_area: [zero.clone(), zero.clone()],
+            two_area_start: zero.clone(),
+            two_area_end: std::sync::OnceLock::new(),
             area: zero.clone(),
             cum_start: zero.clone(),
             cum_after: zero.clone(),
@@ -441,19 +514,18 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             end: pairs.len(),
             n_edges,
             active: None,
+            fit: std::sync::OnceLock::new(),
         };
         if n_edges > 0 {
-            let (s1, c1) = w.sin_cos();
-            for side in [Side::Start, Side::End] {
-                lune.two_area[side as usize] =
-                    lune.swept(&edges, &pairs, side, &c1, &s1).max(&zero);
-            }
+            // From the start only: the end's sum (the same area) is
+            // computed when a sample first needs it (`Lune::two_area`).
+            lune.two_area_start = lune.swept(&edges, &pairs, Side::Start, &c1, &s1).max(&zero);
             for e in &edges[first_edge..] {
                 // The size of the Lambert terms, for the rounding-level test.
                 magnitude += &(e.abs_nz.clone() * &w);
             }
-            if lune.two_area[0] > zero && lune.two_area[1] > zero {
-                lune.area = lune.two_area[0].clone() * &half;
+            if lune.two_area_start > zero {
+                lune.area = lune.two_area_start.clone() * &half;
             }
         }
         lunes.push(lune);
@@ -479,30 +551,38 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             "zero projected solid angle (the polygon lies on or below the horizon)",
         ));
     }
-    let mut fits = Vec::new();
-    for &k in &active {
-        let cdf = |side| LuneCdf {
-            lune: &lunes[k],
-            edges: &edges,
-            pairs: &pairs,
-            side,
-        };
-        // Split where F = 1/2: each side inverts its own half.
-        let xh = Newton::default().invert(&cdf(Side::Start), &half).x;
-        let xh_end = lunes[k].width.clone() - &xh;
-        fits.push([
-            SideFit::new(cdf(Side::Start), xh),
-            SideFit::new(cdf(Side::End), xh_end),
-        ]);
-    }
     Ok(Built {
         arcs,
         lunes,
         edges,
         pairs,
         active,
-        fits,
         measure,
         solid_angle,
     })
+}
+
+/// The fitted inverse marginal of one lune, from its start and its end:
+/// split where F = 1/2 (each side inverts its own half), then a cubic per
+/// side. Some twenty evaluations of F per lune: the polygon computes it
+/// lazily, the first time a sample falls in the lune.
+pub(super) fn fit_lune<T: Real>(
+    lune: &Lune<T>,
+    edges: &[LuneEdge<T>],
+    pairs: &[Pair<T>],
+) -> [SideFit<T>; 2] {
+    let cdf = |side| LuneCdf {
+        lune,
+        edges,
+        pairs,
+        side,
+    };
+    let xh = Newton::default()
+        .invert(&cdf(Side::Start), &T::from_ratio(1, 2))
+        .x;
+    let xh_end = lune.width.clone() - &xh;
+    [
+        SideFit::new(cdf(Side::Start), xh),
+        SideFit::new(cdf(Side::End), xh_end),
+    ]
 }

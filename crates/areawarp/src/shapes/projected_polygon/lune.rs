@@ -17,6 +17,7 @@
 
 use crate::real::Real;
 use crate::recipe::Cdf1;
+use std::sync::OnceLock;
 
 /// The end of a lune that coordinates are measured from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,8 +129,13 @@ pub(super) struct Lune<T> {
     /// (cos b, sin b).
     pub cs_b: (T, T),
     /// 2 × the projected area of the polygon inside the lune (0 if empty),
-    /// as summed from each side.
-    pub two_area: [T; 2],
+    /// as summed from the start.
+    pub two_area_start: T,
+    /// The same, summed from the end (the normalization of the marginal
+    /// from the end, so that it reaches 1 exactly): computed on first use
+    /// ([`Lune::two_area`]), as only samples and inverses in the lune's
+    /// second half need it.
+    pub two_area_end: OnceLock<T>,
     /// The projected area of the polygon inside the lune.
     pub area: T,
     /// Projected area of the polygon in the lunes before this one.
@@ -144,6 +150,9 @@ pub(super) struct Lune<T> {
     pub n_edges: usize,
     /// Index among the lunes of positive area (those that are sampled).
     pub active: Option<usize>,
+    /// The fitted inverse marginal from the start and the end (active lunes;
+    /// computed on first use, see `ProjectedPolygon::fit`).
+    pub fit: OnceLock<[SideFit<T>; 2]>,
 }
 
 /// The two ends of one interval on a meridian, in r² and z², and its
@@ -176,6 +185,30 @@ fn alpha_minus_sin<T: Real>(a: &T) -> T {
 }
 
 impl<T: Real> Lune<T> {
+    /// 2 × the projected area inside the lune, as summed from `side` (the
+    /// end's sum computed on first use; where rounding leaves it at zero
+    /// while the start's is positive, a sliver lune, the start's is used).
+    pub fn two_area(&self, edges: &[LuneEdge<T>], pairs: &[Pair<T>], side: Side) -> T {
+        match side {
+            Side::Start => self.two_area_start.clone(),
+            Side::End => self
+                .two_area_end
+                .get_or_init(|| {
+                    if self.n_edges == 0 {
+                        return T::zero();
+                    }
+                    let (s, c) = self.width.sin_cos();
+                    let a = self.swept(edges, pairs, Side::End, &c, &s).max(&T::zero());
+                    if a > T::zero() {
+                        a
+                    } else {
+                        self.two_area_start.clone()
+                    }
+                })
+                .clone(),
+        }
+    }
+
     fn pairs<'a>(&self, pairs: &'a [Pair<T>]) -> &'a [Pair<T>] {
         &pairs[self.first..self.end]
     }
@@ -441,12 +474,12 @@ impl<T: Real> Cdf1<T> for LuneCdf<'_, T> {
     fn cdf(&self, x: &T) -> T {
         let (s, c) = x.sin_cos();
         self.lune.swept(self.edges, self.pairs, self.side, &c, &s)
-            / &self.lune.two_area[self.side as usize]
+            / &self.lune.two_area(self.edges, self.pairs, self.side)
     }
     fn pdf(&self, x: &T) -> T {
         let (s, c) = x.sin_cos();
         self.lune.chord(self.edges, self.pairs, self.side, &c, &s)
-            / &self.lune.two_area[self.side as usize]
+            / &self.lune.two_area(self.edges, self.pairs, self.side)
     }
     fn domain(&self) -> (T, T) {
         (T::zero(), self.lune.width.clone())

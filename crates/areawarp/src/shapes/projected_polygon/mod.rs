@@ -10,7 +10,7 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{Arc, Built, clip, partition, prepare, unit_direction};
+use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
 use crate::shapes::wide::{narrow3, widen3};
 
 /// The polygon is valid, but not once its unit vertices are rounded to `T`.
@@ -192,8 +192,6 @@ pub struct ProjectedPolygon<T> {
     pairs: Vec<Pair<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
-    /// Fitted inverse marginal per active lune, from the start and the end.
-    fits: Vec<[SideFit<T>; 2]>,
     measure: T,
     solid_angle: T,
     two_pi: T,
@@ -382,7 +380,6 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             active,
-            fits,
             measure,
             solid_angle,
         } = built;
@@ -395,7 +392,6 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             active,
-            fits,
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),
@@ -469,12 +465,22 @@ impl<T: Real> ProjectedPolygon<T> {
         };
         let lune = &self.lunes[self.active[k]];
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
-        if y <= self.fits[k][0].fh {
+        if y <= self.fit(k)[0].fh {
             (k, Side::Start, y)
         } else {
             let y_end = ((t_rev - &lune.cum_after) / &lune.area).clamp(&zero, &one);
             (k, Side::End, y_end)
         }
+    }
+
+    /// The fitted inverse marginal of active lune `k`, from the start and
+    /// the end, computed the first time a sample falls in the lune: most of
+    /// the construction's cost otherwise, and a renderer that builds the
+    /// sampler for a few samples pays only for the lunes it visits.
+    fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
+        let lune = &self.lunes[self.active[k]];
+        lune.fit
+            .get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
@@ -489,7 +495,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// x = F⁻¹(y) from `side` of active lune `k`, with the configured
     /// inversion, in the transformed half-marginal G of [`SideFit`].
     fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
-        let fit = &self.fits[k][side as usize];
+        let fit = &self.fit(k)[side as usize];
         let cdf = fit.half(self.lune_cdf(self.active[k], side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;

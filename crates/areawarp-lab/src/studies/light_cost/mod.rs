@@ -76,6 +76,7 @@ impl LightCostConfig {
                 Sampler::TrianglePair,
                 Sampler::ProjectedPolygon,
                 Sampler::Cosine,
+                Sampler::BilinearRectangle,
             ],
         }
     }
@@ -315,13 +316,16 @@ impl LightCost {
             slug: "cost".to_string(),
             measurement: None,
             claims: self.claim().into_iter().collect(),
+            claims_image: self.claim().into_iter().collect(),
         }
     }
 
     /// The verdict on "sampling the spherical rectangle costs only a few
-    /// percent more than area sampling": the direction (dearer) always
-    /// holds; reproduced only if the estimator's ratio with the heaviest
-    /// visibility workload is within 10%.
+    /// percent more than area sampling" (a claim about size: that it is
+    /// dearer is not in question): reproduced only if the estimator's ratio
+    /// with the heaviest visibility workload is within 10% ("a few
+    /// percent"), not reproduced otherwise — in our minimal estimator,
+    /// which lacks a production renderer's other work per sample.
     pub fn claim(&self) -> Option<Claim> {
         let (a, r) = (self.row(Sampler::Area)?, self.row(Sampler::Rectangle)?);
         let last = WORKLOADS.len() - 1;
@@ -338,13 +342,11 @@ impl LightCost {
         );
         let verdict = if r.ratio[last] <= 1.1 {
             Verdict::Reproduced
-        } else if r.ratio.iter().all(|q| *q >= 1.0) {
-            Verdict::Qualitative
         } else {
             Verdict::NotReproduced
         };
         Some(Claim {
-            source: "Ureña, Fajardo & King 2013, §4".to_string(),
+            source: "Ureña, Fajardo & King 2013, §6".to_string(),
             statement:
                 "sampling the spherical rectangle costs only a few percent more than area sampling"
                     .to_string(),

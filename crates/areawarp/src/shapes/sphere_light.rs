@@ -1,0 +1,395 @@
+//! Uniform sampling of the solid angle a sphere subtends from a point
+//! outside it (pbrt's sphere-light sampling): directions uniform in the
+//! cone of half-angle θ_max = arcsin(r/d), and the point where each hits
+//! the sphere first. Derivation: `docs/sphere-light.md`.
+
+use super::local_frame::{LocalFrame, off_unit_sphere, one_minus_z, unit_vector};
+use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::vector::Vec3;
+use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily};
+
+/// How far a direction with `w = 1 − cos θ` and `sin θ` lies beyond the rim
+/// of a cone with `h = 1 − cos θ_max`, `sin θ_max`, as an angle:
+/// `θ − θ_max ≈ (cos θ_max − cos θ)/sin((θ + θ_max)/2)`, here with the
+/// mean of the sines in the denominator (0 inside).
+pub(crate) fn beyond_rim<T: Real>(w: &T, h: &T, sin_theta: &T, sin_max: &T) -> T {
+    let excess = w.clone() - h;
+    if !positive(&excess) {
+        return T::zero();
+    }
+    let s = (sin_theta.clone() + sin_max) / &T::from_i64(2);
+    if positive(&s) { excess / &s } else { excess }
+}
+
+/// Uniform directions (in solid angle) towards a sphere of centre `c` and
+/// radius `r` seen from an observer `o` outside it, and their first hit
+/// points on the sphere (pbrt-v4's `SphereLight`/`Sphere::Sample(ctx)`):
+/// with `d = |c − o|`, `sin θ_max = r/d`, `h = 1 − cos θ_max`,
+///
+/// 1 − cos θ = u·h,   φ = 2πv,
+///
+/// about the axis `(c − o)/d`; ψ(u, v) is the direction, and
+/// [`LightWarp::sample_light`] also returns the point `c + r·n` with
+/// `n = (sin α cos φ, sin α sin φ, −cos α)` in the same frame, α the angle
+/// at the centre between `n` and `−axis`.
+///
+/// Numerics, from an observer 10⁻⁶ above the surface to a sphere of
+/// 10⁻⁸ sr far away:
+/// - `cos θ_max = √((d − r)(d + r))/d` and `h = sin²θ_max/(1 + cos θ_max)`
+///   (no `1 − cos θ_max`, which would lose every digit of a tiny cone);
+/// - the direction works with `1 − cos θ = u·h` and
+///   `sin θ = √(uh(2 − uh))`, never with a rounded `cos θ` (as
+///   [`UniformCone`](super::UniformCone));
+/// - the hit point uses `sin²θ_max − sin²θ = h(1 − u)(cos θ + cos θ_max)`
+///   (a product, where pbrt's `1 − sin²θ/sin²θ_max` cancels at the rim),
+///   `cos α = (sin²θ + cos θ·√(…))/sin θ_max` and
+///   `sin α = sin θ·cos²θ_max/(sin θ_max(cos θ + √(…)))` (sums of positive
+///   terms; pbrt's `sin α = √(1 − cos²α)` cancels at the nearest point).
+///
+/// # Density
+/// `pdf = 1/Ω` per steradian in the cone (0 outside), `Ω = 2πh =
+/// measure()`.
+///
+/// # Example
+/// ```
+/// use areawarp::shapes::SphereLight;
+/// use areawarp::{Vec3, Warp};
+///
+/// let light = SphereLight::new(Vec3::new(0.0, 0.0, 2.0f64), 1.0, Vec3::new(0.0, 0.0, 0.0)).unwrap();
+/// // sin θ_max = 1/2: Ω = 2π(1 − √3/2).
+/// let omega = 2.0 * std::f64::consts::PI * (1.0 - 3f64.sqrt() / 2.0);
+/// assert!((light.measure() - omega).abs() < 1e-15);
+/// use areawarp::warp::LightWarp;
+/// let s = light.sample_light([0.3, 0.7]);
+/// assert!(((s.point.sub(&Vec3::new(0.0, 0.0, 2.0))).norm() - 1.0).abs() < 1e-15);
+/// let along = s.point.scale(&(1.0 / s.point.norm()));
+/// assert!(along.sub(&s.direction).norm() < 1e-15);
+/// assert!(SphereLight::new(Vec3::new(0.0, 0.0, 0.5f64), 1.0, Vec3::new(0.0, 0.0, 0.0)).is_err());
+/// ```
+#[derive(Clone, Debug)]
+pub struct SphereLight<T> {
+    center: Vec3<T>,
+    radius: T,
+    observer: Vec3<T>,
+    distance: T,
+    frame: LocalFrame<T>,
+    sin_max: T,
+    cos_max: T,
+    h: T,
+    omega: T,
+    inv_omega: T,
+    half_pi: T,
+    inv_two_pi: T,
+}
+
+impl<T: Real> SphereLight<T> {
+    /// The sphere of `center` and `radius` seen from `observer`.
+    ///
+    /// # Errors
+    /// - [`WarpError::NonFinite`] for NaN/∞ coordinates or radius, or a
+    ///   distance that overflows;
+    /// - [`WarpError::InvalidParameter`] for a radius ≤ 0, and for an
+    ///   observer inside or on the sphere (`|c − o| ≤ r`: there is no cone
+    ///   of directions to sample; sample the whole sphere of directions
+    ///   instead);
+    /// - [`WarpError::Degenerate`] if the cone's solid angle underflows.
+    ///
+    /// # Density
+    /// `1/Ω` per steradian.
+    pub fn new(center: Vec3<T>, radius: T, observer: Vec3<T>) -> Result<Self, WarpError> {
+        if !center.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "sphere centre",
+            });
+        }
+        if !observer.is_finite() {
+            return Err(WarpError::NonFinite { what: "observer" });
+        }
+        if !radius.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "sphere radius",
+            });
+        }
+        if !positive(&radius) {
+            return Err(WarpError::InvalidParameter {
+                name: "radius",
+                expected: "a finite radius > 0",
+            });
+        }
+        let offset = center.sub(&observer);
+        if !offset.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "centre − observer (overflow)",
+            });
+        }
+        let m = offset.max_abs();
+        let d = if positive(&m) {
+            offset.scale(&(T::one() / &m)).norm() * &m
+        } else {
+            T::zero()
+        };
+        if !d.is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "distance to the centre (overflow)",
+            });
+        }
+        if !(d > radius) {
+            return Err(WarpError::InvalidParameter {
+                name: "observer",
+                expected: "a point outside the sphere (|centre − observer| > radius)",
+            });
+        }
+        let axis = unit_vector(&offset).ok_or(WarpError::Degenerate {
+            what: "observer at the centre",
+        })?;
+        let frame = LocalFrame::about(&axis, "sphere-light axis")?;
+        let sin_max = radius.clone() / &d;
+        let cos_max = ((d.clone() - &radius) * &(d.clone() + &radius)).sqrt() / &d;
+        let h = sin_max.square() / &(T::one() + &cos_max);
+        let pi = T::pi();
+        let omega = pi.clone() * &T::from_i64(2) * &h;
+        let inv_omega = T::one() / &omega;
+        if !positive(&omega) || !inv_omega.is_finite() {
+            return Err(WarpError::Degenerate {
+                what: "the sphere's solid angle underflows",
+            });
+        }
+        Ok(SphereLight {
+            center,
+            radius,
+            observer,
+            distance: d,
+            frame,
+            sin_max,
+            cos_max,
+            h,
+            omega,
+            inv_omega,
+            half_pi: pi.clone() / &T::from_i64(2),
+            inv_two_pi: T::one() / &(pi * &T::from_i64(2)),
+        })
+    }
+
+    /// The centre.
+    pub fn center(&self) -> &Vec3<T> {
+        &self.center
+    }
+    /// The radius.
+    pub fn radius(&self) -> &T {
+        &self.radius
+    }
+    /// The observer.
+    pub fn observer(&self) -> &Vec3<T> {
+        &self.observer
+    }
+    /// `1 − cos θ_max`, the cone's height: Ω = 2π·h.
+    pub fn cone_height(&self) -> &T {
+        &self.h
+    }
+
+    /// `(1 − cos θ, sin θ, cos θ, (cos φ, sin φ))` of ψ(u, v).
+    fn angles(&self, u: &T, v: &T) -> (T, T, T, (T, T)) {
+        let w = u.clone() * &self.h;
+        let sin_theta = (w.clone() * &(T::from_i64(2) - &w)).sqrt();
+        let cos_theta = T::one() - &w;
+        (
+            w,
+            sin_theta,
+            cos_theta,
+            polar_turns(&T::one(), v, &self.half_pi),
+        )
+    }
+
+    /// ψ(u, v) with the first hit point on the sphere, its distance and
+    /// both densities (see [`LightWarp::sample_light`]).
+    fn sample_hit(&self, u: &T, v: &T) -> LightSample<T> {
+        let (u, v) = (clamp_unit(u), clamp_unit(v));
+        let (_, sin_theta, cos_theta, (c, s)) = self.angles(&u, &v);
+        let direction = self.frame.to_world(&Vec3::new(
+            sin_theta.clone() * &c,
+            sin_theta.clone() * &s,
+            cos_theta.clone(),
+        ));
+        // √(sin²θ_max − sin²θ) = √(h(1 − u)(cos θ + cos θ_max)).
+        let root =
+            (self.h.clone() * &(T::one() - &u) * &(cos_theta.clone() + &self.cos_max)).sqrt();
+        let cos_alpha = (sin_theta.square() + &(cos_theta.clone() * &root)) / &self.sin_max;
+        let den = cos_theta + &root;
+        let sin_alpha = sin_theta * &self.cos_max.square() / &(self.sin_max.clone() * &den);
+        let n = self.frame.to_world(&Vec3::new(
+            sin_alpha.clone() * &c,
+            sin_alpha * &s,
+            -cos_alpha,
+        ));
+        // The ray parameter t = d cos θ − √(r² − d² sin²θ), without its
+        // cancellation at the rim: t = d cos²θ_max/(cos θ + √(…)). The
+        // cosine at the emitter |n·ψ| = cos(α + θ) = √(…)/sin θ_max.
+        let distance = self.distance.clone() * &self.cos_max.square() / &den;
+        let cos_emitter = root / &self.sin_max;
+        let pdf_area = self.inv_omega.clone() * &cos_emitter / &distance.square();
+        LightSample {
+            point: self.center.add(&n.scale(&self.radius)),
+            direction,
+            distance,
+            pdf: self.inv_omega.clone(),
+            pdf_area,
+        }
+    }
+
+    /// `[u, v]` of a point `p` on the sphere's visible cap: the inverse of
+    /// the direction `(p − o)/|p − o|`.
+    ///
+    /// # Errors
+    /// [`InverseError`] if `p` is not finite, farther than `2^(−p/2)·r` from
+    /// the sphere, or its direction is not in the cone.
+    pub fn inverse_point(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        if !p.is_finite() {
+            return Err(InverseError::NonFinite);
+        }
+        let off = (p.sub(&self.center).norm() - &self.radius).abs() / &self.radius;
+        if off > on_shape_tolerance::<T>() {
+            return Err(InverseError::OffShape {
+                distance: (off * &self.radius).to_f64(),
+            });
+        }
+        let dir = unit_vector(&p.sub(&self.observer)).ok_or(InverseError::OffShape {
+            distance: self.radius.to_f64(),
+        })?;
+        self.inverse(&dir)
+    }
+}
+
+impl<T: Real> Warp<T> for SphereLight<T> {
+    type Point = Vec3<T>;
+
+    fn map(&self, u: &T, v: &T) -> Vec3<T> {
+        let (_, sin_theta, cos_theta, (c, s)) = self.angles(&clamp_unit(u), &clamp_unit(v));
+        self.frame.to_world(&Vec3::new(
+            sin_theta.clone() * &c,
+            sin_theta * &s,
+            cos_theta,
+        ))
+    }
+
+    fn pdf_unchecked(&self, _p: &Vec3<T>) -> T {
+        self.inv_omega.clone()
+    }
+
+    /// `max(2^(−p/2)·sin θ_max, 64u)`: relative to the cone's size, so that
+    /// [`Warp::pdf`] and [`Warp::inverse`] refuse directions well outside a
+    /// narrow cone (θ_max = 5.6·10⁻⁵ for 10⁻⁸ sr, below `f32`'s
+    /// `2⁻¹² ≈ 2.4·10⁻⁴`), but never below the rounding of a unit
+    /// direction's coordinates.
+    fn on_shape_tolerance(&self) -> T {
+        (on_shape_tolerance::<T>() * &self.sin_max.min(&T::one()))
+            .max(&(T::unit_roundoff() * &T::from_i64(64)))
+    }
+
+    fn measure(&self) -> T {
+        self.omega.clone()
+    }
+
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.on_shape_tolerance())?;
+        let l = self.frame.to_local(p);
+        let (w, _) = one_minus_z(&l);
+        Ok([
+            clamp_unit(&(w / &self.h)),
+            turns_of(&l.y, &l.x, &self.inv_two_pi),
+        ])
+    }
+
+    /// `| |p| − 1 |` plus the angle by which the direction lies beyond the
+    /// cone's rim.
+    fn outside_by(&self, p: &Vec3<T>) -> T {
+        if !p.is_finite() {
+            return T::max_value();
+        }
+        let radial = off_unit_sphere(p);
+        if p.norm_squared() == T::zero() {
+            return radial;
+        }
+        let l = self.frame.to_local(p);
+        let (w, rho2) = one_minus_z(&l);
+        radial + &beyond_rim(&w, &self.h, &rho2.sqrt(), &self.sin_max)
+    }
+}
+
+impl<T: Real> WarpFamily<T> for SphereLight<T> {
+    type At<S: Real> = SphereLight<S>;
+    fn at<S: Real>(&self) -> Result<SphereLight<S>, WarpError> {
+        SphereLight::new(
+            self.center.convert(),
+            crate::real::convert(&self.radius),
+            self.observer.convert(),
+        )
+    }
+    fn name(&self) -> String {
+        "sphere-light".to_string()
+    }
+}
+
+crate::warp::distribution_for_floats!(SphereLight, Vec3);
+
+impl<T: Real> LightWarp<T> for SphereLight<T> {
+    fn observer(&self) -> Vec3<T> {
+        self.observer.clone()
+    }
+    /// The direction ψ(u, v), the first hit `c + r·n` on the sphere, the
+    /// distance `d cos²θ_max/(cos θ + √(sin²θ_max − sin²θ))` (no
+    /// cancellation at the rim) and both densities.
+    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
+        let [u, v] = uv;
+        self.sample_hit(&u, &v)
+    }
+}
+
+/// The test shapes, from a sphere of 10⁻⁸ sr far away to an observer
+/// 10⁻⁶ above the surface: `(name, [cx, cy, cz, r, ox, oy, oz])`.
+pub fn sphere_light_ladder() -> Vec<(String, [f64; 7])> {
+    let dir = [2.0 / 7.0, -3.0 / 7.0, 6.0 / 7.0];
+    let o = [0.1, 0.2, -0.3];
+    let at = |dist: f64| {
+        [
+            o[0] + dist * dir[0],
+            o[1] + dist * dir[1],
+            o[2] + dist * dir[2],
+        ]
+    };
+    let c_far = at(1e4);
+    let c_mid = [0.3, -1.2, 2.0];
+    let near = |gap: f64| {
+        let (c, r) = ([0.25, -0.5, 1.5], 0.75);
+        let d = r + gap;
+        [c[0] - d * dir[0], c[1] - d * dir[1], c[2] - d * dir[2]]
+    };
+    let n3 = near(0.75e-3);
+    let n6 = near(1e-6);
+    vec![
+        (
+            "medium".into(),
+            [c_mid[0], c_mid[1], c_mid[2], 0.7, o[0], o[1], o[2]],
+        ),
+        (
+            "far 1e-8 sr".into(),
+            [c_far[0], c_far[1], c_far[2], 0.5642, o[0], o[1], o[2]],
+        ),
+        (
+            "near 1e-3 r".into(),
+            [0.25, -0.5, 1.5, 0.75, n3[0], n3[1], n3[2]],
+        ),
+        (
+            "near 1e-6".into(),
+            [0.25, -0.5, 1.5, 0.75, n6[0], n6[1], n6[2]],
+        ),
+        (
+            "axis 1e-6".into(),
+            [0.0, 0.0, 2.0, 1.0, 0.0, 0.0, 1.0 - 1e-6],
+        ),
+    ]
+}
+
+#[cfg(test)]
+mod tests;
