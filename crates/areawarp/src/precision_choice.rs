@@ -450,7 +450,7 @@ fn evaluation_kappa<W: Advisable>(
     let steps: &[f64] = if format == Format::F32 {
         &[1.0]
     } else {
-        &[2f64.powi(K) as f64, 1.0]
+        &[2f64.powi(K), 1.0]
     };
     for i in 0..params.len() {
         let x = params[i];

@@ -756,7 +756,7 @@ fn projected_polygon_and_sphere_f32_accept_what_f64_accepts() {
     assert_eq!(tried, 15);
     // The sphere's only decisions (finite, non-zero axis) are exact.
     for axis in [Vec3::new(1e-40f32, 0.0, 0.0), Vec3::new(3e38, 3e38, 0.0)] {
-        assert!(Sphere::with_axis(axis.clone()).is_ok());
+        assert!(Sphere::with_axis(axis).is_ok());
         assert!(Sphere::<f64>::with_axis(axis.convert()).is_ok());
     }
 }

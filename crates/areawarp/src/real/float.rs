@@ -63,7 +63,7 @@ macro_rules! impl_real_for_float {
             fn exp2i(e: i32) -> Self {
                 // Normal powers of two straight from the bits (no powi call).
                 const BIAS: i32 = $t::MAX_EXP - 1;
-                if e >= $t::MIN_EXP - 1 && e <= BIAS {
+                if ($t::MIN_EXP - 1..=BIAS).contains(&e) {
                     $t::from_bits(((e + BIAS) as $u) << ($t::MANTISSA_DIGITS - 1))
                 } else {
                     (2.0 as $t).powi(e)

@@ -393,6 +393,7 @@ impl<T: Real> SphericalTriangle<T> {
 
     /// The directions `p_i − observer` rounded to `T`, and the core of the
     /// triangle of the wide directions.
+    #[allow(clippy::type_complexity)]
     fn from_points_core(
         p0: &Vec3<T>,
         p1: &Vec3<T>,

@@ -35,6 +35,7 @@ fn widen(v: &Vec3<f32>) -> Vec3<f64> {
 
 /// Triangle lights and shading points below them (as `[p0, p1, p2, o]`),
 /// and rectangles (`[s, ex, ey, o]`), in f32 (the f64 runs widen them).
+#[allow(clippy::type_complexity)]
 fn lights(n: usize) -> (Vec<[Vec3<f32>; 4]>, Vec<[Vec3<f32>; 4]>) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(0xC057);
     let mut r = || rng.random::<f64>();
@@ -93,9 +94,7 @@ pub fn time_costs(batch: usize, repetitions: usize) -> Vec<CostRow> {
         .map(|&(u, v)| (f64::from(u), f64::from(v)))
         .collect();
     let t0 = &tris[0];
-    let tri32 =
-        SphericalTriangle::from_points(t0[0].clone(), t0[1].clone(), t0[2].clone(), t0[3].clone())
-            .expect("valid triangle");
+    let tri32 = SphericalTriangle::from_points(t0[0], t0[1], t0[2], t0[3]).expect("valid triangle");
     let tri64 = SphericalTriangle::<f64>::from_points(
         widen(&t0[0]),
         widen(&t0[1]),
@@ -105,9 +104,7 @@ pub fn time_costs(batch: usize, repetitions: usize) -> Vec<CostRow> {
     .expect("valid triangle");
     let tri_mixed = Mixed::new(&tri64).expect("valid triangle");
     let r0 = &rects[0];
-    let rect32 =
-        SphericalRectangle::new(r0[0].clone(), r0[1].clone(), r0[2].clone(), r0[3].clone())
-            .expect("valid rectangle");
+    let rect32 = SphericalRectangle::new(r0[0], r0[1], r0[2], r0[3]).expect("valid rectangle");
     let rect64 =
         SphericalRectangle::<f64>::new(widen(&r0[0]), widen(&r0[1]), widen(&r0[2]), widen(&r0[3]))
             .expect("valid rectangle");

@@ -122,7 +122,7 @@ fn constructor_rejects_bad_input() {
         Vec3::new(1.0f32, 0.0, 1e-45),
     );
     assert!(matches!(
-        SphericalTriangle::new(p.clone(), q.clone(), r.clone()),
+        SphericalTriangle::new(p, q, r),
         Err(WarpError::Unrepresentable { .. })
     ));
     assert!(SphericalTriangle::<f64>::new(p.convert(), q.convert(), r.convert()).is_ok());
