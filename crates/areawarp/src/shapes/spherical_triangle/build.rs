@@ -40,7 +40,8 @@ pub(super) fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)>
     if !positive(&len) || !len.is_finite() {
         return None;
     }
-    Some((Vec3::new(t.x / &len, t.y / &len, t.z / &len), len))
+    let inv = T::one() / &len;
+    Some((Vec3::new(t.x * &inv, t.y * &inv, t.z * &inv), len))
 }
 
 /// The typed errors of the constructor.
