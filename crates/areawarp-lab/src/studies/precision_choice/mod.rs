@@ -393,4 +393,13 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         assert_eq!(s.write_csv(&dir).unwrap().len(), 2);
     }
+
+    /// The report's section at the default size, printed:
+    /// `cargo test --release -p areawarp-lab --lib precision_choice_section -- --ignored --nocapture`.
+    #[test]
+    #[ignore = "the report section at the default size (timings: one run)"]
+    fn precision_choice_section() {
+        let s = run(&ChoiceConfig::default()).unwrap();
+        println!("{}", s.to_markdown());
+    }
 }
