@@ -261,6 +261,9 @@ impl<T: Real> WideInverse<T> for WideTriangle<T> {
     }
 }
 
+/// The directions `p_i − observer` rounded to `T`, and the wide core.
+type PointsCore<T> = ([Vec3<T>; 3], Core<<T as Real>::Wide>);
+
 /// The reason a triangle is rejected.
 fn out_of_range() -> WarpError {
     build::reject::OUT_OF_RANGE
@@ -393,13 +396,12 @@ impl<T: Real> SphericalTriangle<T> {
 
     /// The directions `p_i − observer` rounded to `T`, and the core of the
     /// triangle of the wide directions.
-    #[allow(clippy::type_complexity)]
     fn from_points_core(
         p0: &Vec3<T>,
         p1: &Vec3<T>,
         p2: &Vec3<T>,
         observer: &Vec3<T>,
-    ) -> Result<([Vec3<T>; 3], Core<T::Wide>), WarpError> {
+    ) -> Result<PointsCore<T>, WarpError> {
         for (v, what) in [
             (p0, "point 0"),
             (p1, "point 1"),

@@ -35,8 +35,11 @@ fn widen(v: &Vec3<f32>) -> Vec3<f64> {
 
 /// Triangle lights and shading points below them (as `[p0, p1, p2, o]`),
 /// and rectangles (`[s, ex, ey, o]`), in f32 (the f64 runs widen them).
-#[allow(clippy::type_complexity)]
-fn lights(n: usize) -> (Vec<[Vec3<f32>; 4]>, Vec<[Vec3<f32>; 4]>) {
+/// Per shading point: the light's four vectors (points and observer, or
+/// corner, edges and observer).
+type Lights = Vec<[Vec3<f32>; 4]>;
+
+fn lights(n: usize) -> (Lights, Lights) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(0xC057);
     let mut r = || rng.random::<f64>();
     let v = |x: f64, y: f64, z: f64| Vec3::new(x as f32, y as f32, z as f32);
