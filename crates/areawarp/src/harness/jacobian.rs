@@ -1,6 +1,10 @@
 //! The Jacobian check: `|ψ_u × ψ_v| · pdf(ψ(u, v)) = 1`, evaluated with exact
 //! partial derivatives (forward-mode dual numbers) at 256 bits.
 //!
+//! The density is the one the sample carries ([`Warp::map_with_pdf`], what
+//! [`Warp::sample_uv`] returns and a renderer divides by); the contract test
+//! ties it to [`Warp::pdf`] at the same point.
+//!
 //! A warp is area-preserving (measure-preserving, for weighted targets) exactly
 //! when its area element `J = |ψ_u × ψ_v|` is the reciprocal of the density it
 //! claims: `J · pdf = 1` at every point. Evaluating `ψ` over
@@ -162,14 +166,14 @@ pub fn check_jacobian_in<R: Real, W: WarpFamily<f64>>(
 /// `|ψ_u × ψ_v| · pdf(ψ(u, v))` over dual numbers, or `None` if the point, its
 /// partials or the product is not finite.
 fn jacobian_times_pdf<R: Real, WD: Warp<Dual2<R>>>(wd: &WD, u: &R, v: &R) -> Option<R> {
-    let p = wd.map(&Dual2::seed_u(u.clone()), &Dual2::seed_v(v.clone()));
+    let (p, pdf) = wd.map_with_pdf(&Dual2::seed_u(u.clone()), &Dual2::seed_v(v.clone()));
     let q = p.to_vec3();
     if !q.is_finite() {
         return None;
     }
     let pu = Vec3::new(q.x.du.clone(), q.y.du.clone(), q.z.du.clone());
     let pv = Vec3::new(q.x.dv, q.y.dv, q.z.dv);
-    let value = pu.cross(&pv).norm() * &wd.pdf(&p).re;
+    let value = pu.cross(&pv).norm() * &pdf.re;
     value.is_finite().then_some(value)
 }
 

@@ -197,6 +197,79 @@ mod mpfr {
         }
     }
 
+    /// The first hit point as a warp of its own (the point on the sphere,
+    /// area density `pdf_area`), so that the κ harness can hold it to the
+    /// bound of its own conditioning.
+    #[derive(Clone, Debug)]
+    struct HitPoint<T>(SphereLight<T>);
+
+    impl<T: Real> Warp<T> for HitPoint<T> {
+        type Point = Vec3<T>;
+        fn map(&self, u: &T, v: &T) -> Vec3<T> {
+            self.0.sample_hit(u, v).point
+        }
+        fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
+            match self.0.inverse_point(p) {
+                Ok([u, v]) => self.0.sample_hit(&u, &v).pdf_area,
+                Err(_) => T::zero(),
+            }
+        }
+        fn measure(&self) -> T {
+            T::one()
+        }
+        fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+            self.0.inverse_point(p)
+        }
+        fn outside_by(&self, p: &Vec3<T>) -> T {
+            (p.sub(self.0.center()).norm() - self.0.radius()).abs()
+        }
+        fn extent(&self) -> T {
+            self.0.center().max_abs() + self.0.radius()
+        }
+    }
+
+    impl<T: Real> WarpFamily<T> for HitPoint<T> {
+        type At<S: Real> = HitPoint<S>;
+        fn at<S: Real>(&self) -> Result<HitPoint<S>, WarpError> {
+            Ok(HitPoint(self.0.at()?))
+        }
+        fn name(&self) -> String {
+            "sphere-light-hit".to_string()
+        }
+    }
+
+    /// The hit point within 16·max(u_T, κ) of the 256-bit hit point of the
+    /// same shape, κ its own sensitivity to one-ulp changes of c, r, o, u, v:
+    /// next to the surface the rounding of `d − r` moves the hit point by
+    /// hundreds of ulps of `|c| + r`, and κ says so.
+    #[test]
+    fn sphere_light_hit_point_within_kappa_bound() {
+        let mut pts = extremes_grid();
+        pts.extend(random_points(200, 17));
+        for (name, params, w) in ladder() {
+            let hit = HitPoint(w);
+            let build_hit = |p: &[M]| build(p).map(HitPoint);
+            let r32 = check_precision_conditioned::<f32, _, _, _>(&hit, build_hit, &params, &pts)
+                .unwrap();
+            let r64 = check_precision_conditioned::<f64, _, _, _>(&hit, build_hit, &params, &pts)
+                .unwrap();
+            for r in [&r32, &r64] {
+                println!(
+                    "conditioned sphere-light hit point {name} {}: max error/bound {:.3} (error {:.2e}, κ {:.2e} at {:?}), max κ {:.2e}, non-finite {}, outside {}",
+                    r.scalar,
+                    r.max_ratio,
+                    r.worst_error,
+                    r.worst_kappa,
+                    r.worst,
+                    r.max_kappa,
+                    r.non_finite,
+                    r.outside
+                );
+                assert!(r.passes(), "{name}: {r:?}");
+            }
+        }
+    }
+
     /// The hit point against the 256-bit hit point of the same shape, in
     /// units of roundoff of `|c| + r` (the scale of its coordinates).
     #[test]
