@@ -2,6 +2,7 @@
 //! `index.md`, a CSV per table, and figures that are valid and non-trivial.
 
 use areawarp_lab::figures::{FigureKind, verify_figure};
+use areawarp_lab::studies::paper_figures::PaperFigures;
 use std::process::Command;
 
 #[test]
@@ -59,6 +60,45 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         "sample_figures.csv",
     ] {
         assert!(dir.join(name).is_file(), "the report did not write {name}");
+    }
+    // Issue 11's re-made paper figures: written, each shown once in its
+    // own paper's section, with a numbered caption and a descriptive alt
+    // text (not the file name).
+    let sections = [
+        (
+            "ufk2013_",
+            "# 1. Ureña, Fajardo & King 2013",
+            "# 2. Ureña 2000",
+        ),
+        ("urena2000_", "# 2. Ureña 2000", "# 3. Arvo"),
+        ("arvo2001_", "# 3. Arvo", "# 4. Shao"),
+        ("shao_badler1996_", "# 4. Shao", "# 5. The maps"),
+    ];
+    assert!(dir.join("paper_figures.csv").is_file());
+    for stem in PaperFigures::figure_stems() {
+        for ext in ["svg", "png"] {
+            let name = format!("{stem}.{ext}");
+            assert!(dir.join(&name).is_file(), "the report did not write {name}");
+        }
+        let link = format!("({stem}.svg)");
+        assert_eq!(index.matches(&link).count(), 1, "{stem} shown once");
+        let at = index.find(&link).unwrap();
+        let (_, start, end) = sections
+            .iter()
+            .find(|(prefix, _, _)| stem.starts_with(prefix))
+            .unwrap_or_else(|| panic!("{stem}: no section"));
+        let (lo, hi) = (index.find(start).unwrap(), index.find(end).unwrap());
+        assert!(lo < at && at < hi, "{stem} is not in the section {start:?}");
+        let alt_start = index[..at].rfind("![Figure ").expect("a numbered alt text");
+        let alt = &index[alt_start..at];
+        assert!(
+            alt.split_whitespace().count() > 12 && !alt.contains(".svg"),
+            "{stem}: alt text {alt:?}"
+        );
+        assert!(
+            index.contains(&format!("(`{stem}.svg`)")),
+            "{stem}: no caption line"
+        );
     }
     let mut csv = 0;
     let mut figures = 0;

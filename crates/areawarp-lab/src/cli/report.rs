@@ -159,6 +159,33 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     let mut arvo = String::new();
     section(&mut arvo, sf.to_markdown(), f);
 
+    // The papers' remaining figures (issue 11): each shown in its paper's
+    // section (milliseconds).
+    let pf = step("the papers' figures re-made", || {
+        use crate::studies::paper_figures as pfs;
+        let cfg = if quick {
+            pfs::PaperFiguresConfig::quick()
+        } else {
+            pfs::PaperFiguresConfig::default()
+        };
+        Ok(pfs::run(&cfg)?)
+    })?;
+    pf.write_csv(out)?;
+    let pf_figs = pf.write_figures(&figs)?;
+    let paper_figs = |prefix: &str| -> Vec<crate::figures::Figure> {
+        pf_figs
+            .iter()
+            .filter(|f| {
+                f.path
+                    .file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with(prefix))
+            })
+            .cloned()
+            .collect()
+    };
+    section(&mut arvo, pf.arvo_markdown(), paper_figs("arvo2001"));
+
     let prec = step("precision study", || {
         let mut cfg = if quick {
             precision_study::PrecisionConfig::quick()
@@ -268,6 +295,7 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     });
     let mut ufk = String::new();
     section(&mut ufk, var.to_markdown(), variance_figs);
+    section(&mut ufk, pf.ufk_markdown(), paper_figs("ufk2013"));
     let eq = crate::studies::equal_time::run(&var, &cost);
     let f = eq.write_figures(&figs)?;
     section(&mut ufk, eq.to_markdown(), f);
@@ -294,6 +322,7 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     let f = sa.write_figures(&figs)?;
     let mut shao = String::new();
     section(&mut shao, sa.to_markdown(), f);
+    section(&mut shao, pf.shao_markdown(), paper_figs("shao_badler1996"));
 
     let (ad, bias) = step("adaptive triangle sampling (Ureña 2000)", || {
         use crate::studies::adaptive_triangle as at;
@@ -340,6 +369,7 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
         ad.to_markdown(),
         crate::studies::adaptive_triangle::allocation_bias_markdown(&bias)
     );
+    section(&mut urena, pf.urena_markdown(), paper_figs("urena2000"));
 
     let mut extra_md = String::new();
     for (title, f) in EXTRA_STUDIES {

@@ -332,10 +332,20 @@ where
         .y_label_area_size(Y_LABEL_AREA)
         .build_cartesian_2d(xs, ys)
         .map_err(err)?;
-    let snap = |span: f64| move |v: &f64| tick_label(if v.abs() < span * 1e-9 { 0.0 } else { *v });
+    // Rounding noise near 0 on a linear axis prints as 0; on a log axis
+    // small ticks are real values (10⁻¹² is not 0).
+    let snap = |span: f64, log: bool| {
+        move |v: &f64| {
+            tick_label(if !log && v.abs() < span * 1e-9 {
+                0.0
+            } else {
+                *v
+            })
+        }
+    };
     let (fx, fy) = (
-        snap((clip.0.1 - clip.0.0).abs()),
-        snap((clip.1.1 - clip.1.0).abs()),
+        snap((clip.0.1 - clip.0.0).abs(), plot.x.scale == Scale::Log10),
+        snap((clip.1.1 - clip.1.0).abs(), plot.y.scale == Scale::Log10),
     );
     chart
         .configure_mesh()

@@ -12,6 +12,7 @@
 //! | [`precision`] (feature `mpfr`) | every warp × variant × {f32, f64} against the exact map at 256 bits on the extremes suite and the hard ladders: error in units of roundoff, NaN/∞, off-shape points, κ-conditioned ratio, 256-bit Jacobian; where the f32 error lives over [0, 1]² |
 //! | [`precision_choice`] | per light-ladder shape: the worst error of f32 robust, f32 mixed (f64 arithmetic), f64 robust and the literal algorithms against 256 bits, beside the error predicted from the shape's conditioning and the evaluation chosen per tolerance; their cost per sample and one-shot |
 //! | [`speed`] (feature `mpfr`) | ns/sample (with and without per-shape construction) against max error for every warp × variant × {f32, f64, mpfr:128, mpfr:256} and every inversion setting; Pareto sets and plots; recommended defaults |
+//! | [`paper_figures`] | the papers' remaining figures re-made from our maps: the triangle-pair panel of Ureña–Fajardo–King 2013 Fig. 5, Ureña 2000 Figs. 3 and 7 (adaptive partitions, sample placements), Arvo 2001 Fig. 1.9 (the marginal CDF), Shao–Badler 1996 Figs. 3 and 4 (samples on a sphere and a spherical triangle), each with a measured number |
 //! | [`sample_figures`] | the papers' sample-distribution figures re-made from our maps: uniform vs jittered samples on a spherical triangle (Arvo 1995), cosine-weighted samples in a non-convex polygon (Arvo 2001), Hammersley points on a spherical rectangle and pulled back to the rectangle (Ureña et al. 2013), each with a measured uniformity check |
 //! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
 //! | [`adaptive_comparison`] | Ureña 2000 §5: stratified solid-angle and cosine-weighted sampling against adaptive sampling with K = ∞, 0.1, 0.001 at equal sample counts on a patterned triangle light with occluders; attached to the variance study |
@@ -24,6 +25,7 @@ pub mod adaptive_triangle;
 pub mod equal_time;
 
 pub mod light_cost;
+pub mod paper_figures;
 
 pub mod precision;
 pub mod precision_choice;

@@ -43,8 +43,8 @@ use rand::{RngExt, SeedableRng};
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
-mod experiments;
-mod output;
+pub(crate) mod experiments;
+pub(crate) mod output;
 #[cfg(test)]
 mod tests;
 use self::experiments::*;
