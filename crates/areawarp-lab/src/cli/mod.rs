@@ -2,5 +2,6 @@
 
 pub mod eval;
 pub mod eval_auto;
+pub mod placement;
 pub mod report;
 pub mod summary;

@@ -156,8 +156,17 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     })?;
     sf.write_csv(out)?;
     let f = sf.write_figures(&figs)?;
+    // Its rectangle figure is Ureña, Fajardo & King's Fig. 5: shown in
+    // their section, beside the re-made triangle-pair panel.
+    let (sf_rectangle_figs, f): (Vec<_>, Vec<_>) = f.into_iter().partition(|f| {
+        f.path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.starts_with("samples_spherical_rectangle"))
+    });
+    let (sf_md, sf_rectangle_md) = sf.markdown_parts();
     let mut arvo = String::new();
-    section(&mut arvo, sf.to_markdown(), f);
+    section(&mut arvo, sf_md, f);
 
     // The papers' remaining figures (issue 11): each shown in its paper's
     // section (milliseconds).
@@ -294,7 +303,19 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
             .is_some_and(|n| n.starts_with("variance_adaptive"))
     });
     let mut ufk = String::new();
-    section(&mut ufk, var.to_markdown(), variance_figs);
+    // The variance figures beside their tables.
+    let var_md = super::placement::place_figures(
+        &var.to_markdown(),
+        out,
+        &variance_figs,
+        super::placement::variance_anchor,
+    );
+    section(&mut ufk, var_md, variance_figs);
+    section(
+        &mut ufk,
+        format!("## Stratification on the rectangle (Fig. 5)\n\n{sf_rectangle_md}"),
+        sf_rectangle_figs,
+    );
     section(&mut ufk, pf.ufk_markdown(), paper_figs("ufk2013"));
     let eq = crate::studies::equal_time::run(&var, &cost);
     let f = eq.write_figures(&figs)?;

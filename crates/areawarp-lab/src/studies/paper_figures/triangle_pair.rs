@@ -349,7 +349,7 @@ impl TrianglePairPanel {
              the red grid of equal-solid-angle cells; the triangle pair (Arvo's map on the two halves of the \
              rectangle, one chosen ∝ its solid angle) \"does not preserve sample stratification as well\", which \
              the paper gives as the reason for its slower convergence. **Ours:** the same rectangle and points as \
-             the spherical-rectangle and area panels in §3 (Fig. 5 re-made, `samples_spherical_rectangle_*`), sent \
+             the spherical-rectangle and area panels above, sent \
              through `strategies::spherical_triangles` — the triangle-pair sampler of the variance study: the \
              first triangle gets u < {c1:.3} (its share of Ω), and u is rescaled. The pair is measure-preserving \
              too: each of its own cells (red, left) holds one point. But those cells are wedges fanning out from a \

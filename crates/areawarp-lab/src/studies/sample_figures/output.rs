@@ -523,6 +523,15 @@ impl SampleFigures {
     /// file name (they sit beside the Markdown file, PNG versions linked)
     /// and the measured numbers.
     pub fn to_markdown(&self) -> String {
+        let (first, rectangle) = self.markdown_parts();
+        first + &rectangle
+    }
+
+    /// [`SampleFigures::to_markdown`] in two parts: the introduction with
+    /// the triangle's and the polygon's figures (Arvo 1995, 2001), and the
+    /// rectangle's figure (Ureña, Fajardo & King 2013, Fig. 5), which the
+    /// report shows in that paper's section.
+    pub fn markdown_parts(&self) -> (String, String) {
         let t = &self.triangle;
         let p = &self.polygon;
         let r = &self.rectangle;
@@ -681,6 +690,7 @@ impl SampleFigures {
         );
 
         // 3.
+        let first = std::mem::take(&mut s);
         let n = r.points.len();
         let _ = writeln!(
             s,
@@ -746,6 +756,6 @@ impl SampleFigures {
                 "samples_spherical_rectangle_area"
             ])
         );
-        s
+        (first, s)
     }
 }
