@@ -175,9 +175,10 @@ impl MarginalCdf {
         .point_radius(3.5);
         let alt = format!(
             "Arvo 2001, Fig. 1.9 re-made: the cumulative marginal F(φ) of cosine-weighted sampling of the \
-             12-vertex non-convex comb, computed by areawarp's projected-polygon map, rising monotonically \
+             {}-vertex non-convex comb, computed by areawarp's projected-polygon map, rising monotonically \
              from 0 to 1 over one turn of azimuth with a kink at each of the {} vertex meridians (red squares); \
              green crosses: azimuths from Arvo's Vandermonde cubic inverse, on the curve",
+            self.vertices.len(),
             self.breakpoints.len() - 1
         );
         let mut out = vec![
@@ -280,7 +281,7 @@ impl MarginalCdf {
         let _ = writeln!(
             s,
             "Between its breakpoints F is within {:.1e} of a straight line: drawn to scale, the curve is a \
-             polygonal line, which is why the paper exaggerated it and why a cubic per lune already inverts it \
+             polygonal line (hence the paper's exaggeration), and a cubic per half-lune already inverts it \
              to {:.0e}. PNG: {}.\n",
             self.max_fluctuation(),
             self.max_cubic_error(),

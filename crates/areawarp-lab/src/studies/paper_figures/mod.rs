@@ -20,6 +20,12 @@
 //! [`strategies::spherical_triangles`]: crate::scene::strategies::spherical_triangles
 //! [`angular_box`]: crate::studies::solid_angle_of_object::angular_box
 //! [`ray_hits_triangle`]: crate::studies::solid_angle_of_object::ray_hits_triangle
+//! [`SphericalTriangle`]: areawarp::shapes::SphericalTriangle
+//! [`AdaptiveTriangle::pieces`]: areawarp::adaptive::AdaptiveTriangle::pieces
+//! [`AdaptiveTriangle::generate`]: areawarp::adaptive::AdaptiveTriangle::generate
+//! [`ProjectedPolygon::marginal_cdf`]: areawarp::shapes::ProjectedPolygon::marginal_cdf
+//! [`MarginalInversion::Cubic`]: areawarp::shapes::MarginalInversion::Cubic
+//! [`Sphere`]: areawarp::shapes::Sphere
 //!
 //! # Example
 //! ```
@@ -41,7 +47,9 @@ mod marginal_cdf;
 mod tests;
 mod triangle_pair;
 
-pub use self::adaptive_partitions::{AdaptivePartitions, PartitionRow, PlacementRow};
+pub use self::adaptive_partitions::{
+    AdaptivePartitions, PARTITION_THRESHOLDS, PLACEMENT_THRESHOLDS, PartitionRow, PlacementRow,
+};
 pub use self::archimedes::{ArchimedesSamples, ArchimedesTriangle};
 pub use self::marginal_cdf::MarginalCdf;
 pub use self::triangle_pair::TrianglePairPanel;
@@ -86,7 +94,10 @@ impl PaperFiguresConfig {
 
     fn validate(&self) -> Result<(), WarpError> {
         let n = self.hammersley_points;
-        if !(16..=1 << 12).contains(&n) || !n.is_power_of_two() || n.trailing_zeros() % 2 != 0 {
+        if !(16..=1 << 12).contains(&n)
+            || !n.is_power_of_two()
+            || !n.trailing_zeros().is_multiple_of(2)
+        {
             return Err(WarpError::InvalidParameter {
                 name: "hammersley_points",
                 expected: "a power of 4 from 16 to 4096",

@@ -64,7 +64,7 @@ fn the_triangle_pair_is_measure_preserving_but_not_stratified_like_the_rectangle
 #[test]
 fn adaptive_partitions_meet_the_stopping_rule_and_sum_to_lamberts_measure() {
     let a = &quick().adaptive;
-    assert!(a.k_whole > PARTITION_THRESHOLDS_FOR_TEST[0]);
+    assert!(a.k_whole > PARTITION_THRESHOLDS[0]);
     let mut last = 0;
     for row in &a.partitions {
         assert!(row.max_k < row.threshold, "{row:?}");
@@ -98,8 +98,6 @@ fn adaptive_partitions_meet_the_stopping_rule_and_sum_to_lamberts_measure() {
     // K = 0.001 spaces its samples more evenly than K = 0.1.
     assert!(fine.nn_cv < coarse.nn_cv && fine.nn_mean > coarse.nn_mean);
 }
-
-const PARTITION_THRESHOLDS_FOR_TEST: [f64; 3] = adaptive_partitions::PARTITION_THRESHOLDS;
 
 #[test]
 fn the_marginal_cdf_is_monotone_from_0_to_1_and_the_cubic_inverts_it() {

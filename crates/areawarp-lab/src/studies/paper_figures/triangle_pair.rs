@@ -352,7 +352,7 @@ impl TrianglePairPanel {
              the spherical-rectangle and area panels above, sent \
              through `strategies::spherical_triangles` — the triangle-pair sampler of the variance study: the \
              first triangle gets u < {c1:.3} (its share of Ω), and u is rescaled. The pair is measure-preserving \
-             too: each of its own cells (red, left) holds one point. But those cells are wedges fanning out from a \
+             too: each of its own cells (red, first figure) holds one point. But those cells are wedges fanning out from a \
              corner of each triangle and cut by the diagonal, and its strata no longer match the compact cells of \
              the spherical-rectangle map. **Measured:** points per cell of the spherical-rectangle map's \
              {k} × {k} grid (1 expected) and of its {h} × {h} coarsening (4 expected); Σ(n_i − e)²/e is 0 for \
@@ -390,8 +390,8 @@ impl TrianglePairPanel {
         let _ = writeln!(
             s,
             "The pair's points are better spread than independent ones but no longer one per compact cell: \
-             that is the stratification the variance table's triangle-pair rows lose (its fitted rate against \
-             the rectangle's). PNG: {}. Data: `paper_figures.csv`.\n",
+             this is the loss of stratification the paper blames for the pair's slower convergence, which the \
+             variance tables above measure. PNG: {}. Data: `paper_figures.csv`.\n",
             png_links(&STEMS)
         );
         s
