@@ -1,7 +1,7 @@
 //! Preprocessing: validation and orientation of the polygon, clipping
 //! against the receiver's horizon, and the partition into lunes.
 
-use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use super::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Inverter, Newton};
@@ -258,6 +258,31 @@ pub(super) fn clip<T: Real>(v: &[Vec3<T>]) -> Result<Vec<Arc<T>>, WarpError> {
     Ok(arcs)
 }
 
+/// The range of r² and z² over the arc: its ends, and the top of its great
+/// circle (r² = n_z², the point nearest the pole) if that lies on the arc.
+fn arc_range<T: Real>(arc: &Arc<T>) -> EdgeRange<T> {
+    let ends = EdgeRange::point([&arc.a.x, &arc.a.y, &arc.a.z])
+        .hull(&EdgeRange::point([&arc.b.x, &arc.b.y, &arc.b.z]));
+    let n = &arc.n;
+    // The top, e_z − n_z n (unnormalized), lies on the minor arc a → b if it
+    // is on the left of a and on the right of b along the great circle.
+    let top = Vec3::new(
+        -(n.z.clone() * &n.x),
+        -(n.z.clone() * &n.y),
+        n.x.square() + &n.y.square(),
+    );
+    if n.cross(&arc.a).dot(&top) >= T::zero() && arc.b.cross(n).dot(&top) >= T::zero() {
+        let r2 = n.z.square();
+        let z2 = T::one() - &r2;
+        ends.hull(&EdgeRange {
+            r2: (r2.clone(), r2),
+            z2: (z2.clone(), z2),
+        })
+    } else {
+        ends
+    }
+}
+
 /// `true` if `p` is the pole (no azimuth).
 fn at_pole<T: Real>(p: &Vec3<T>) -> bool {
     p.x == T::zero() && p.y == T::zero()
@@ -387,6 +412,23 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             .iter()
             .any(|(e, ke)| (**e == q.a || **e == q.b) && *ke == k)
     };
+    let whole: Vec<EdgeRange<T>> = usable.iter().map(|a| arc_range(a)).collect();
+    // The arc's range in lune k: its own ends where it ends on the lune's
+    // meridians.
+    let range_in = |ai: usize, e: &LuneEdge<T>, k: usize| -> EdgeRange<T> {
+        let arc = usable[ai];
+        let at = |meridian: usize| {
+            let p = if ends[ai].0 == meridian {
+                &arc.a
+            } else if ends[ai].1 == meridian {
+                &arc.b
+            } else {
+                return None;
+            };
+            Some(EdgeRange::point([&p.x, &p.y, &p.z]))
+        };
+        e.range([at(k), at((k + 1) % m)], &whole[ai])
+    };
     // Stable: each lune's arcs stay in boundary order.
     members.sort_by_key(|&(k, _)| k);
     // (sin, cos) of each meridian, computed once and shared by the lunes on
@@ -479,6 +521,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             let o = &lune_edges[outer_j].1;
             let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
             let mut shared = [false, false];
+            let outer_range = range_in(lune_edges[outer_j].0, o, k);
+            let inner_range = inner.map(|i| range_in(lune_edges[i].0, &lune_edges[i].1, k));
             if let Some(i) = inner {
                 let e = &lune_edges[i].1;
                 for (si, meridian) in [(0usize, k), (1, (k + 1) % m)] {
@@ -494,6 +538,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 outer: first_edge + outer_j,
                 d,
                 shared,
+                range: EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened(),
             });
             j = outer_j + 1;
         }
