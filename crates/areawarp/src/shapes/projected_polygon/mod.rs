@@ -5,25 +5,20 @@
 
 mod build;
 mod lune;
+mod narrow;
 #[cfg(test)]
 mod reference;
 #[cfg(test)]
 mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
-use crate::shapes::wide::{narrow3, widen3};
-
-/// The polygon is valid, but not once its unit vertices are rounded to `T`.
-fn unrepresentable() -> WarpError {
-    WarpError::Unrepresentable {
-        what: "the polygon's unit vertices rounded to the scalar type no longer bound a valid polygon",
-    }
-}
 use self::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
+use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
@@ -350,29 +345,21 @@ impl<T: Real> ProjectedPolygon<T> {
         inversion: MarginalInversion,
     ) -> Result<Self, WarpError> {
         // Validation, orientation and solid angle in the wide type (f64 for
-        // f32): f32 accepts what f64 accepts on the same vertices. The
-        // clipping and partition run in T on the rounded unit vertices; where
-        // they fail in T only, T cannot represent the polygon.
+        // f32): f32 accepts what f64 accepts on the same vertices, unless
+        // the vertices rounded to f32 no longer bound a valid polygon. For a
+        // narrower T the clipping, the partition and every constant are
+        // computed in the wide type too and rounded (`narrow.rs`).
         let wide: Vec<Vec3<T::Wide>> = local.iter().map(widen3).collect();
         let (vertices_w, solid_angle_w) = prepare(&wide)?;
-        let vertices: Vec<Vec3<T>> = vertices_w.iter().map(narrow3::<T>).collect();
-        let solid_angle = T::narrow(&solid_angle_w);
-        let built = if solid_angle > T::zero() && solid_angle.is_finite() {
-            clip(&vertices).and_then(|arcs| partition(arcs, solid_angle))
-        } else {
-            Err(unrepresentable())
-        };
-        let built = match built {
-            Ok(b) => b,
-            Err(e) if T::precision() < <T::Wide as Real>::precision() => {
-                // The same steps in the wide type decide whose fault it is.
-                clip(&vertices_w).and_then(|arcs| partition(arcs, solid_angle_w))?;
-                return Err(match e {
-                    WarpError::Degenerate { .. } => unrepresentable(),
-                    other => other,
-                });
+        let built = if T::precision() < <T::Wide as Real>::precision() {
+            if !representable::<T>(&vertices_w) {
+                return Err(unrepresentable());
             }
-            Err(e) => return Err(e),
+            let built_w = clip(&vertices_w).and_then(|arcs| partition(arcs, solid_angle_w))?;
+            narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
+        } else {
+            let vertices: Vec<Vec3<T>> = vertices_w.iter().map(narrow3::<T>).collect();
+            clip(&vertices).and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
         };
         let Built {
             arcs,

@@ -1,0 +1,157 @@
+//! The mixed-precision construction of a narrow scalar type (`f32`): the
+//! clipping, the lune partition and every per-edge and per-lune constant
+//! are computed in the wide type (`f64`) from the unit vertices and then
+//! rounded to `T` for the per-sample path, as the spherical triangle and
+//! rectangle do. An `f32` polygon is thereby accepted when the `f64`
+//! constructor accepts the same values and the vertices rounded to `f32`
+//! still bound a valid polygon of the same orientation; its constants are
+//! correctly rounded (no cancellation in `f32`), and its samples are held
+//! in their lune and interval by the rounded ranges.
+
+use super::build::{Arc, Built, prepare, unit_direction};
+use super::lune::{EdgeRange, EdgeSide, Lune, LuneEdge, Pair};
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::shapes::wide::{narrow3, widen3};
+use crate::vector::Vec3;
+use std::sync::OnceLock;
+
+/// The polygon is valid, but not once its unit vertices are rounded to `T`.
+pub(super) fn unrepresentable() -> WarpError {
+    WarpError::Unrepresentable {
+        what: "the polygon's unit vertices rounded to the scalar type no longer bound a valid polygon",
+    }
+}
+
+/// Whether the oriented unit vertices `vertices_w` (from [`prepare`] in the
+/// wide type), rounded to `T`, still bound a valid polygon with the same
+/// orientation (no two consecutive vertices rounded together, no fold, the
+/// same side the smaller one).
+pub(super) fn representable<T: Real>(vertices_w: &[Vec3<T::Wide>]) -> bool {
+    let rounded: Vec<Vec3<T::Wide>> = vertices_w
+        .iter()
+        .map(|v| widen3(&narrow3::<T>(v)))
+        .collect();
+    match prepare(&rounded) {
+        // `prepare` reverses the vertices of a polygon given clockwise.
+        Ok((v, omega)) => {
+            unit_direction(&rounded[0], "polygon vertex").is_ok_and(|first| v[0] == first)
+                && T::narrow(&omega) > T::zero()
+        }
+        Err(_) => false,
+    }
+}
+
+fn n<T: Real>(x: &T::Wide) -> T {
+    T::narrow(x)
+}
+
+fn n2<T: Real>((a, b): &(T::Wide, T::Wide)) -> (T, T) {
+    (T::narrow(a), T::narrow(b))
+}
+
+/// The range rounded to `T` and widened by `T`'s rounding.
+fn range<T: Real>(r: &EdgeRange<T::Wide>) -> EdgeRange<T> {
+    EdgeRange {
+        r2: n2::<T>(&r.r2),
+        z2: n2::<T>(&r.z2),
+    }
+    .slackened()
+}
+
+/// The wide construction rounded to `T`. Lunes whose area rounds to zero
+/// are not sampled; `None` if nothing is left (the projected solid angle
+/// is not representable in `T`).
+pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
+    let arcs = w
+        .arcs
+        .iter()
+        .map(|a| Arc {
+            a: narrow3(&a.a),
+            b: narrow3(&a.b),
+            n: narrow3(&a.n),
+        })
+        .collect();
+    let edges = w
+        .edges
+        .iter()
+        .map(|e| LuneEdge {
+            nz: n::<T>(&e.nz),
+            abs_nz: n::<T>(&e.abs_nz),
+            nz2: n::<T>(&e.nz2),
+            side: [0, 1].map(|i| EdgeSide {
+                g0: n::<T>(&e.side[i].g0),
+                k0: n::<T>(&e.side[i].k0),
+                r0: n::<T>(&e.side[i].r0),
+            }),
+        })
+        .collect();
+    let pairs = w
+        .pairs
+        .iter()
+        .map(|p| Pair {
+            inner: p.inner,
+            outer: p.outer,
+            d: [n2::<T>(&p.d[0]), n2::<T>(&p.d[1])],
+            shared: p.shared,
+            range: range::<T>(&p.range),
+        })
+        .collect();
+    let zero = T::zero();
+    let mut lunes: Vec<Lune<T>> = w
+        .lunes
+        .iter()
+        .map(|l| {
+            let two_area_start = n::<T>(&l.two_area_start);
+            Lune {
+                start: n::<T>(&l.start),
+                end_az: n::<T>(&l.end_az),
+                width: n::<T>(&l.width),
+                cs_a: n2::<T>(&l.cs_a),
+                cs_b: n2::<T>(&l.cs_b),
+                area: if l.active.is_some() && two_area_start > zero {
+                    n::<T>(&l.area)
+                } else {
+                    zero.clone()
+                },
+                two_area_start,
+                two_area_end: OnceLock::new(),
+                cum_start: zero.clone(),
+                cum_after: zero.clone(),
+                first: l.first,
+                end: l.end,
+                n_edges: l.n_edges,
+                active: None,
+                fit: OnceLock::new(),
+            }
+        })
+        .collect();
+    // The cumulative areas and the active lunes again, in T.
+    let mut measure = T::zero();
+    let mut active = Vec::new();
+    for (k, lune) in lunes.iter_mut().enumerate() {
+        lune.cum_start = measure.clone();
+        if lune.area > zero {
+            measure += &lune.area;
+            lune.active = Some(active.len());
+            active.push(k);
+        }
+    }
+    let mut after = T::zero();
+    for lune in lunes.iter_mut().rev() {
+        lune.cum_after = after.clone();
+        after += &lune.area;
+    }
+    if active.is_empty() || !(measure > zero) || !measure.is_finite() {
+        return None;
+    }
+    Some(Built {
+        arcs,
+        lunes,
+        edges,
+        pairs,
+        active,
+        measure,
+        solid_angle: n::<T>(&w.solid_angle),
+    })
+}
