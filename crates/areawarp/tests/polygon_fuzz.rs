@@ -11,6 +11,9 @@
 //! `on_shape_tolerance`), accepted by its own `inverse`, with a finite,
 //! non-negative density. Counts of shapes tried / accepted / with a bad
 //! sample are printed per inversion and scalar; none may have a bad sample.
+//! An `f32` constructor may reject only what `f64` rejects on the same
+//! (rounded) values, or call the polygon unrepresentable in `f32` (issue
+//! 13): both counts are printed, the first must be 0.
 //!
 //! `cargo test --release -p areawarp --test polygon_fuzz -- --nocapture`
 //! (the large size: `-- --ignored --nocapture`).
@@ -160,6 +163,13 @@ struct Tally {
     first: Option<String>,
     /// `(tried, accepted, bad)` per kind of case.
     by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
+    /// Rejected by a narrow type for a reason other than "unrepresentable"
+    /// although `f64` accepts the same values (issue 13: must be 0).
+    narrow_only: usize,
+    /// Rejected by a narrow type as unrepresentable although `f64` accepts
+    /// the same values (allowed: the rounded vertices no longer bound a
+    /// valid polygon).
+    unrepresentable_only: usize,
 }
 
 fn why_rejected(e: &WarpError) -> String {
@@ -227,6 +237,26 @@ fn bad_sample<T: Real>(
     None
 }
 
+/// Whether `f64` accepts the case on the values `vertices` (and the
+/// observer and normal) rounded to a narrow type.
+fn wide_accepts<T: Real>(
+    case: &PolygonCase,
+    vertices: &[Vec3<T>],
+    inversion: MarginalInversion,
+) -> bool {
+    let wide: Vec<Vec3<f64>> = vertices.iter().map(|v| v.convert()).collect();
+    match &case.seen_from {
+        None => ProjectedPolygon::new_with(&wide, inversion).is_ok(),
+        Some((o, n)) => ProjectedPolygon::from_points_with(
+            &wide,
+            &v3::<T>(o).convert(),
+            &v3::<T>(n).convert(),
+            inversion,
+        )
+        .is_ok(),
+    }
+}
+
 fn run<T: Real>(
     case: &PolygonCase,
     inversion: MarginalInversion,
@@ -244,6 +274,17 @@ fn run<T: Real>(
         Ok(w) => w,
         Err(e) => {
             *t.rejected.entry(why_rejected(&e)).or_default() += 1;
+            if T::precision() < 53 && wide_accepts(case, &vertices, inversion) {
+                match e {
+                    WarpError::Unrepresentable { .. } => t.unrepresentable_only += 1,
+                    _ => {
+                        t.narrow_only += 1;
+                        t.first.get_or_insert_with(|| {
+                            format!("{case:?}: rejected ({e:?}) but f64 accepts the same values")
+                        });
+                    }
+                }
+            }
             return;
         }
     };
@@ -296,12 +337,18 @@ fn fuzz(cases: u32) -> BTreeMap<String, Tally> {
 
 fn report_and_check(tallies: &BTreeMap<String, Tally>) {
     println!(
-        "\nprojected polygons: inversion / scalar | tried | accepted | bad samples | max outside_by [u] | rejections"
+        "\nprojected polygons: inversion / scalar | tried | accepted | bad samples | max outside_by [u] | f64 accepts the same values: rejected as unrepresentable / otherwise | rejections"
     );
     for (k, t) in tallies {
         println!(
-            "{k:<12} | {} | {} | {} | {:.2} | {:?}",
-            t.tried, t.accepted, t.bad, t.max_outside_ulps, t.rejected
+            "{k:<12} | {} | {} | {} | {:.2} | {} / {} | {:?}",
+            t.tried,
+            t.accepted,
+            t.bad,
+            t.max_outside_ulps,
+            t.unrepresentable_only,
+            t.narrow_only,
+            t.rejected
         );
         println!("    by kind (tried, accepted, bad): {:?}", t.by_kind);
         if let Some(f) = &t.first {
@@ -310,6 +357,7 @@ fn report_and_check(tallies: &BTreeMap<String, Tally>) {
     }
     for (k, t) in tallies {
         assert_eq!(t.bad, 0, "{k}: {:?}", t.first);
+        assert_eq!(t.narrow_only, 0, "{k}: {:?}", t.first);
         assert!(
             t.accepted * 2 > t.tried,
             "{k}: most shapes are valid: {t:?}"

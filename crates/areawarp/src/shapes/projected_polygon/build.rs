@@ -33,6 +33,8 @@ pub(super) struct Built<T> {
     pub lunes: Vec<Lune<T>>,
     pub edges: Vec<LuneEdge<T>>,
     pub pairs: Vec<Pair<T>>,
+    /// The range of each pair's region ([`EdgeRange`]), beside `pairs`.
+    pub ranges: Vec<EdgeRange<T>>,
     pub active: Vec<usize>,
     pub measure: T,
     pub solid_angle: T,
@@ -437,6 +439,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(members.len());
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(members.len());
+    let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(members.len());
     let mut magnitude = T::zero();
     let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::new();
     let mut next_member = 0;
@@ -538,8 +541,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 outer: first_edge + outer_j,
                 d,
                 shared,
-                range: EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened(),
             });
+            ranges.push(EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened());
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
@@ -601,6 +604,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         lunes,
         edges,
         pairs,
+        ranges,
         active,
         measure,
         solid_angle,

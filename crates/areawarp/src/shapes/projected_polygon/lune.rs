@@ -147,18 +147,17 @@ pub(super) struct Pair<T> {
     /// Whether the two edges meet at each side's meridian (an extremal
     /// vertex of the polygon: the interval closes there).
     pub shared: [bool; 2],
-    /// The range of r² and z² over the interval's region in the lune: from
-    /// the inner edge's least r² (0 at the pole) to the outer edge's
-    /// largest ([`EdgeRange::pair`]). Samples are clamped into it (widened
-    /// by rounding, [`EdgeRange::slackened`]), which
-    /// keeps them within the lune's azimuth width of the region where the
-    /// edges' r² on a meridian is ill-conditioned (edges nearly along a
-    /// meridian).
-    pub range: EdgeRange<T>,
 }
 
-/// The range of r² and of z² over a part of an edge (or of the region
-/// between two edges), `(least, largest)` each.
+/// The range of r² and of z² over a part of an edge, or over the region
+/// of an interval ([`Pair`]) in its lune, `(least, largest)` each: from the
+/// inner edge's least r² (0 at the pole) to the outer edge's largest
+/// ([`EdgeRange::pair`]). Samples are clamped into their interval's range
+/// (widened by rounding, [`EdgeRange::slackened`]), which keeps them within
+/// the lune's azimuth width of the region where the edges' r² on a meridian
+/// is ill-conditioned (edges nearly along a meridian). Kept beside the
+/// pairs, not in them, so that the marginal's loops over the pairs do not
+/// load them.
 #[derive(Clone, Debug)]
 pub(super) struct EdgeRange<T> {
     /// (least r², largest r²).
@@ -447,14 +446,17 @@ impl<T: Real> Lune<T> {
     }
 
     /// `(r², z²)` of the point at conditional probability `v` on the
-    /// meridian at side coordinate `(c, s)`: uniform in r² (equivalently in
+    /// meridian at side coordinate `(c, s)`, clamped into its interval's
+    /// range (`ranges`, beside `pairs`): uniform in r² (equivalently in
     /// z²) over the union of intervals, from the pole outwards. `v ≤ 1/2` is
     /// measured from the pole, `v > 1/2` from the outer end with `1 − v`
     /// (exact there), so that both ends keep their relative accuracy.
+    #[allow(clippy::too_many_arguments)]
     pub fn sample(
         &self,
         edges: &[LuneEdge<T>],
         pairs: &[Pair<T>],
+        ranges: &[EdgeRange<T>],
         side: Side,
         c: &T,
         s: &T,
@@ -473,7 +475,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i + 1 == ni {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = p.range.clamp(iv.r_in + &t, iv.z_in - &t);
+                    out = ranges[self.first + i].clamp(iv.r_in + &t, iv.z_in - &t);
                     break;
                 }
                 cum += &iv.len;
@@ -485,7 +487,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i == 0 {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = p.range.clamp(iv.r_out - &t, iv.z_out + &t);
+                    out = ranges[self.first + i].clamp(iv.r_out - &t, iv.z_out + &t);
                     break;
                 }
                 cum += &iv.len;

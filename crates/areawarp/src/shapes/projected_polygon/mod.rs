@@ -12,7 +12,7 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
-use self::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
@@ -145,6 +145,18 @@ impl<T: Real> Frame<T> {
 /// r²) and inconsistent inner/outer alternation of the edges crossing a
 /// lune. A self-intersection exactly on a vertex meridian may go unnoticed.
 ///
+/// # Precision
+/// For `f32` (a scalar narrower than its `Real::Wide`), every decision and
+/// every constant of the constructor is computed in `f64` and rounded to
+/// `f32` (as for the spherical triangle and rectangle): an `f32` polygon is
+/// accepted when the `f64` constructor accepts the same values, unless two
+/// consecutive unit vertices round together in `f32`
+/// ([`WarpError::Unrepresentable`]). Each sample's height
+/// on its meridian is held inside the range of its interval's region in the
+/// lune, so that edges nearly along a meridian (whose height on a meridian
+/// is ill-conditioned) cannot carry it off the polygon
+/// (`docs/projected-polygon.md`, Numerics).
+///
 /// # Density
 /// `pdf(p) = max(cos θ, 0) / Π` per steradian, `measure() = Π`, the
 /// projected solid angle of the clipped polygon (π × the form factor). The
@@ -185,6 +197,9 @@ pub struct ProjectedPolygon<T> {
     lunes: Vec<Lune<T>>,
     edges: Vec<LuneEdge<T>>,
     pairs: Vec<Pair<T>>,
+    /// The range of each pair's region, beside `pairs` (samples are
+    /// clamped into it).
+    ranges: Vec<EdgeRange<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
     measure: T,
@@ -198,7 +213,9 @@ impl<T: Real> ProjectedPolygon<T> {
     ///
     /// # Errors
     /// [`WarpError::NonFinite`] for a non-finite vertex,
-    /// [`WarpError::Degenerate`] for the cases listed on the type.
+    /// [`WarpError::Degenerate`] for the cases listed on the type,
+    /// [`WarpError::Unrepresentable`] (`f32` only) for a polygon valid in
+    /// `f64` two of whose consecutive unit vertices round together in `f32`.
     ///
     /// # Density
     /// `cos θ / Π` per steradian.
@@ -346,7 +363,7 @@ impl<T: Real> ProjectedPolygon<T> {
     ) -> Result<Self, WarpError> {
         // Validation, orientation and solid angle in the wide type (f64 for
         // f32): f32 accepts what f64 accepts on the same vertices, unless
-        // the vertices rounded to f32 no longer bound a valid polygon. For a
+        // two consecutive unit vertices round together in f32. For a
         // narrower T the clipping, the partition and every constant are
         // computed in the wide type too and rounded (`narrow.rs`).
         let wide: Vec<Vec3<T::Wide>> = local.iter().map(widen3).collect();
@@ -366,6 +383,7 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
+            ranges,
             active,
             measure,
             solid_angle,
@@ -378,6 +396,7 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
+            ranges,
             active,
             measure,
             solid_angle,
@@ -662,7 +681,15 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
                 )
             }
         };
-        let (r2, z2) = lune.sample(&self.edges, &self.pairs, side, &c, &s, &clamp_unit(v));
+        let (r2, z2) = lune.sample(
+            &self.edges,
+            &self.pairs,
+            &self.ranges,
+            side,
+            &c,
+            &s,
+            &clamp_unit(v),
+        );
         let r = r2.sqrt();
         let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
         match &self.frame {

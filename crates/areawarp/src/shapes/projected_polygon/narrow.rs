@@ -3,12 +3,12 @@
 //! are computed in the wide type (`f64`) from the unit vertices and then
 //! rounded to `T` for the per-sample path, as the spherical triangle and
 //! rectangle do. An `f32` polygon is thereby accepted when the `f64`
-//! constructor accepts the same values and the vertices rounded to `f32`
-//! still bound a valid polygon of the same orientation; its constants are
+//! constructor accepts the same values and no two consecutive unit
+//! vertices round together in `f32`; its constants are
 //! correctly rounded (no cancellation in `f32`), and its samples are held
 //! in their lune and interval by the rounded ranges.
 
-use super::build::{Arc, Built, prepare, unit_direction};
+use super::build::{Arc, Built};
 use super::lune::{EdgeRange, EdgeSide, Lune, LuneEdge, Pair};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -19,27 +19,22 @@ use std::sync::OnceLock;
 /// The polygon is valid, but not once its unit vertices are rounded to `T`.
 pub(super) fn unrepresentable() -> WarpError {
     WarpError::Unrepresentable {
-        what: "the polygon's unit vertices rounded to the scalar type no longer bound a valid polygon",
+        what: "two consecutive unit vertices of the polygon round together in the scalar type (or its projected solid angle rounds to zero)",
     }
 }
 
 /// Whether the oriented unit vertices `vertices_w` (from [`prepare`] in the
-/// wide type), rounded to `T`, still bound a valid polygon with the same
-/// orientation (no two consecutive vertices rounded together, no fold, the
-/// same side the smaller one).
+/// wide type, `prepare`), rounded to `T`, are still distinct from their neighbours:
+/// the polygon's edges exist in `T`. (Its orientation and every constant
+/// come from the wide type, so nothing else of `T`'s rounding can undo it;
+/// this is one cross product per edge, not a second validation.)
 pub(super) fn representable<T: Real>(vertices_w: &[Vec3<T::Wide>]) -> bool {
     let rounded: Vec<Vec3<T::Wide>> = vertices_w
         .iter()
         .map(|v| widen3(&narrow3::<T>(v)))
         .collect();
-    match prepare(&rounded) {
-        // `prepare` reverses the vertices of a polygon given clockwise.
-        Ok((v, omega)) => {
-            unit_direction(&rounded[0], "polygon vertex").is_ok_and(|first| v[0] == first)
-                && T::narrow(&omega) > T::zero()
-        }
-        Err(_) => false,
-    }
+    let k = rounded.len();
+    (0..k).all(|i| rounded[i].cross(&rounded[(i + 1) % k]).max_abs() > <T::Wide as Real>::zero())
 }
 
 fn n<T: Real>(x: &T::Wide) -> T {
@@ -94,9 +89,9 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             outer: p.outer,
             d: [n2::<T>(&p.d[0]), n2::<T>(&p.d[1])],
             shared: p.shared,
-            range: range::<T>(&p.range),
         })
         .collect();
+    let ranges = w.ranges.iter().map(range::<T>).collect();
     let zero = T::zero();
     let mut lunes: Vec<Lune<T>> = w
         .lunes
@@ -150,6 +145,7 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         lunes,
         edges,
         pairs,
+        ranges,
         active,
         measure,
         solid_angle: n::<T>(&w.solid_angle),
