@@ -61,6 +61,8 @@ fn ring(n: usize, rho: f64, elev: f64, az: f64, squash: f64, phase: f64) -> Vec<
         .collect()
 }
 
+// 1.5707: an elevation just below π/2 (not meant as π/2).
+#[allow(clippy::approx_constant)]
 fn polygon_case() -> impl Strategy<Value = PolygonCase> {
     let shape = (
         3usize..=6,
