@@ -95,7 +95,7 @@ impl<T: Real> Warp<T> for Tent<T> {
     }
 
     /// The density from the two roots of the inverse CDFs (see
-    /// [`tent_inverse_cdf_with_density`]): full relative accuracy next to
+    /// `tent_inverse_cdf_with_density`): full relative accuracy next to
     /// the edges, where `pdf_unchecked(map(u, v))` keeps only the absolute
     /// accuracy of the point.
     fn map_with_pdf(&self, u: &T, v: &T) -> (Vec2<T>, T) {
