@@ -528,7 +528,7 @@ fn nan_inputs_give_nan_samples() {
 mod issue_13 {
     use super::*;
     use areawarp::harness::extremes::{extremes_grid, random_points};
-    use areawarp::precision_choice::measure::{Audit, audit_f32, measure};
+    use areawarp::precision_choice::measure::{Audit, PredictionTally, audit_f32, measure};
     use areawarp::precision_choice::{Advisable, advise};
 
     #[derive(Debug, Default)]
@@ -547,13 +547,8 @@ mod issue_13 {
         off_exact_shape: usize,
         samples: usize,
         max_outside_ulps: f64,
-        predictions: usize,
-        under_predicted: usize,
-        within_100: usize,
-        /// The same three for the robust and mixed evaluations alone.
-        robust_predictions: usize,
-        robust_under_predicted: usize,
-        robust_within_100: usize,
+        /// Predicted against measured, per evaluation.
+        tally: PredictionTally,
         worst_under: Option<String>,
     }
 
@@ -585,16 +580,10 @@ mod issue_13 {
                 .get_or_insert_with(|| format!("{label}: {a:?}"));
         }
         let Ok(advice) = advise(w) else { return };
-        for m in measure(w, &pts).unwrap_or_else(|e| panic!("{label}: {e:?}")) {
-            if !m.accepted {
-                continue;
-            }
+        let measured = measure(w, &pts).unwrap_or_else(|e| panic!("{label}: {e:?}"));
+        for m in measured.iter().filter(|m| m.accepted) {
             let p = advice.predicted(m.evaluation);
-            c.predictions += 1;
-            if p < m.worst_error {
-                c.under_predicted += 1;
-            }
-            if p < m.worst_error && m.evaluation.is_robust() {
+            if !(p >= m.worst_error) {
                 c.worst_under.get_or_insert_with(|| {
                     format!(
                         "{label} {}: predicted {p:e} < measured {:e}",
@@ -602,13 +591,8 @@ mod issue_13 {
                     )
                 });
             }
-            c.within_100 += usize::from(p <= 100.0 * m.worst_error);
-            if m.evaluation.is_robust() {
-                c.robust_predictions += 1;
-                c.robust_under_predicted += usize::from(p < m.worst_error);
-                c.robust_within_100 += usize::from(p <= 100.0 * m.worst_error);
-            }
         }
+        c.tally.add(&advice, &measured);
     }
 
     fn run(cases: u32) -> (Counts, Counts) {
@@ -657,22 +641,25 @@ mod issue_13 {
         assert!(c.max_map_ratio <= 1.0, "{name}: {c:?}");
         assert!(c.max_inverse_ratio <= 1.0, "{name}: {c:?}");
         assert_eq!(c.inverse_refusals, 0, "{name}: {c:?}");
-        // The robust and mixed predictions are upper bounds; the literal
-        // algorithms' are estimates (they can return NaN or lose their
-        // digits at points no probe hits), counted only.
-        assert_eq!(c.robust_under_predicted, 0, "{name}: {c:?}");
+        // Every prediction, the literal algorithms' included, is an upper
+        // bound.
+        println!("{}", c.tally.table(name));
+        assert_eq!(c.tally.total().under, 0, "{name}: {c:?}");
     }
 
-    /// ≥ 90% of the robust and mixed predictions within 100× of the
-    /// measured error, over both families.
+    /// ≥ 90% of the predictions within 100× of the measured error, per
+    /// family and over both.
     fn check_tightness(t: &Counts, r: &Counts) {
-        let within = t.robust_within_100 + r.robust_within_100;
-        let cases = t.robust_predictions + r.robust_predictions;
-        println!(
-            "robust and mixed predictions within 100×: {within} of {cases} ({:.1}%)",
-            100.0 * within as f64 / cases as f64
-        );
-        assert!(within * 10 >= cases * 9, "{within} of {cases}");
+        let both = t.tally.merged(&r.tally);
+        println!("{}", both.table("random shapes, both families"));
+        for (family, tally) in [
+            ("triangles", &t.tally),
+            ("rectangles", &r.tally),
+            ("both", &both),
+        ] {
+            let total = tally.total();
+            assert!(total.fraction_within_100() >= 0.9, "{family}: {total:?}");
+        }
     }
 
     #[test]
