@@ -16,21 +16,30 @@
 //! | [`Evaluation::MixedF32`] (f32 in and out, f64 arithmetic: [`Mixed`]) | `2⁻²⁴ + 16·max(2⁻⁵³, κ₆₄')` (κ₆₄' of the shape rounded to f32, plus the final rounding) |
 //! | [`Evaluation::RobustF64`] | `16·max(2⁻⁵³, κ₆₄)` |
 //! | (any robust one, when the above is `≥ 1/4`) | 2: no digit left (the largest distance of two unit vectors) |
-//! | [`Evaluation::LiteralF32`], [`Evaluation::LiteralF64`] | `4·e + 16·max(u, κ)`, `e` the literal map's error observed at the probes against the robust `f64` map; `∞` if it is NaN at a probe |
+//! | [`Evaluation::LiteralF32`], [`Evaluation::LiteralF64`] | `4·e + 16·max(u, κ) + c`, `e` the literal map's error observed at the probes against the robust `f64` map, `c` the error of a cut-off of the published algorithm bounded from the geometry ([`Advisable::literal_cutoff_error`]: the rectangle's `h_v² ≥ 1 − ε ⇒ y_v = y₁`); `∞` if it is NaN at a probe |
 //!
 //! The robust maps are as accurate as their inputs allow — within
 //! `16·max(u, κ)` of the exact map, measured against 256 bits on the hard
 //! ladders and on random shapes — so their prediction is an upper bound by
 //! construction, and not a loose one: they stay within 0.04–0.25 of it. The
 //! papers' literal algorithms have no such bound (their cancellations are
-//! not the shape's), so theirs is measured at the probes and kept for
-//! comparison; [`Advice::choose`] never picks them.
+//! not the shape's), so theirs is measured at the probes, plus what their
+//! cut-offs can cost where no probe lands, and kept for comparison;
+//! [`Advice::choose`] never picks them.
 //!
 //! κ₃₂ is measured by one-`f32`-ulp perturbations evaluated with the robust
 //! `f64` map (the definition of κ, evaluated `2²⁹` times more precisely
 //! than the effect it measures); κ₆₄ by perturbations of `2¹⁶` `f64` ulps,
 //! divided by `2¹⁶` (a linearization whose rounding noise is `2⁻¹⁶` of the
-//! map's own error). The probes are the extremes grid (`u, v ∈ {0, 2⁻⁶⁰,
+//! map's own error). What is perturbed is what the evaluation rounds
+//! ([`Advisable::rounding_model`]): the triangle's vertex coordinates; the
+//! rectangle's local coordinates `x₀, y₀, h` and edge lengths (by one ulp of
+//! the arithmetic, or by the rounding of the `f64` dot products that compute
+//! them from `s − o`, whichever is larger), not the world coordinates of
+//! its corner and observer — those overstate the rounding of a rectangle
+//! whose corner is far from the origin, and put a grazing observer exactly
+//! on the plane (rejected) although `h` crossing zero moves the map only if
+//! the observer's foot is on the rectangle. The probes are the extremes grid (`u, v ∈ {0, 2⁻⁶⁰,
 //! 10⁻¹², 10⁻⁶, ½, 1 − 10⁻⁶, 1 − 10⁻¹², 1}`, where the maps' conditioning is
 //! worst) and 16 random points. Cost: about 60 constructions and 5 000 map
 //! evaluations in `f64`, ≈ 0.3 ms: a per-light decision at scene load, not
@@ -321,7 +330,7 @@ impl Advisable for SphericalRectangle<f64> {
     /// The published algorithm replaces the row `y_v` by `y₁` wherever
     /// `h_v² ≥ 1 − ε` (`ε = 10⁻⁶`, "to avoid NaNs"): every direction within
     /// `φ_c = asin √ε` of `±ŷ` in its column's plane goes to the top edge.
-    /// See [`literal_cutoff_error`].
+    /// The bound is derived in `docs/precision-choice.md`.
     fn literal_cutoff_error(p: &[f64], arithmetic_bits: u32) -> f64 {
         let Ok(r) = Self::build(p, false, arithmetic_bits.min(53)) else {
             return 0.0;
@@ -349,8 +358,7 @@ impl Advisable for SphericalRectangle<f64> {
         input_bits: u32,
     ) -> Result<RoundingModel, WarpError> {
         let r = Self::build(p, false, input_bits)?;
-        let ([x0, y0, h, lx, ly], _) = r.local_coordinates();
-        let d = (x0 * x0 + y0 * y0 + h * h).sqrt();
+        let ([x0, y0, h, lx, ly], e) = r.local_coordinates();
         let ulp = |x: f64| {
             if arithmetic_bits == 24 {
                 let y = (x.abs() as f32).max(f32::MIN_POSITIVE);
@@ -359,17 +367,38 @@ impl Advisable for SphericalRectangle<f64> {
                 x.abs().next_up() - x.abs()
             }
         };
-        // A coordinate of the observer's offset: one ulp of the coordinate
-        // in the arithmetic, or of |d| in f64, whichever is larger.
-        let offset = |x: f64| Step::Absolute(ulp(x).max(d.next_up() - d));
-        // (see literal_cutoff_error below)
+        // The f64 constructor computes a local coordinate as d·ê (d = s − o
+        // rounded coordinate-wise, ê a unit vector of the rounded frame):
+        // its rounding scales with 2⁻⁵³·Σ|dᵢ|·(|êᵢ| + the rounding of
+        // êᵢ), the step is twice that (one ulp of |d| on a frame at random
+        // orientation; on a frame aligned with the axes, where only the
+        // coordinate itself is rounded, one ulp of it).
+        let [s, ex, ey, o] = [0, 3, 6, 9].map(|i| v3(p, i));
+        let xhat = ex.scale(&(1.0 / ex.norm()));
+        let ey_perp = ey.sub(&xhat.scale(&ey.dot(&xhat)));
+        let yhat = ey_perp.scale(&(1.0 / ey_perp.norm()));
+        let zhat = xhat.cross(&yhat);
+        let d = s.sub(&o);
+        let [da, xa, ya, za] = [&d, &xhat, &yhat, &zhat].map(|v| [v.x.abs(), v.y.abs(), v.z.abs()]);
+        // ẑ = x̂ × ŷ: each component a difference of two products.
+        let z_round = [
+            xa[1] * ya[2] + xa[2] * ya[1],
+            xa[2] * ya[0] + xa[0] * ya[2],
+            xa[0] * ya[1] + xa[1] * ya[0],
+        ];
+        let scale = 2f64.powi(-e);
+        let f64_error = |w: [f64; 3]| U64 * scale * (0..3).map(|i| da[i] * w[i]).sum::<f64>();
+        let ex_err = f64_error(xa.map(|x| 2.0 * x));
+        let ey_err = f64_error(ya.map(|y| 2.0 * y));
+        let h_err = f64_error([0, 1, 2].map(|i| 2.0 * (za[i] + z_round[i])));
+        let offset = |x: f64, err: f64| Step::Absolute(ulp(x).max(err));
         let length = |x: f64| Step::Absolute(ulp(x));
         Ok(RoundingModel {
             params: vec![x0, y0, -h, lx, 0.0, 0.0, 0.0, ly, 0.0, 0.0, 0.0, 0.0],
             steps: vec![
-                offset(x0),
-                offset(y0),
-                offset(h),
+                offset(x0, ex_err),
+                offset(y0, ey_err),
+                offset(h, h_err),
                 length(lx),
                 Step::Fixed,
                 Step::Fixed,

@@ -274,7 +274,7 @@ fn inverse_kappa<W: Advisable>(exact: &W::In<M>, p: &Vec3<f32>) -> f64 {
 
 /// Predicted against measured worst errors of one evaluation over a set of
 /// shapes (see [`PredictionTally`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PredictionRow {
     /// Shapes whose evaluation was accepted (and measured).
     pub cases: usize,
@@ -284,6 +284,21 @@ pub struct PredictionRow {
     pub within_100: usize,
     /// The largest `predicted / measured` (1 when both are ∞).
     pub worst_ratio: f64,
+    /// The smallest `predicted / measured`: the margin of the bound (< 1
+    /// for an under-prediction); ∞ for no cases.
+    pub least_ratio: f64,
+}
+
+impl Default for PredictionRow {
+    fn default() -> Self {
+        PredictionRow {
+            cases: 0,
+            under: 0,
+            within_100: 0,
+            worst_ratio: 0.0,
+            least_ratio: f64::INFINITY,
+        }
+    }
 }
 
 impl PredictionRow {
@@ -298,6 +313,7 @@ impl PredictionRow {
             predicted / measured
         };
         self.worst_ratio = self.worst_ratio.max(ratio);
+        self.least_ratio = self.least_ratio.min(ratio);
     }
 
     /// The sum of two rows.
@@ -307,6 +323,7 @@ impl PredictionRow {
             under: self.under + other.under,
             within_100: self.within_100 + other.within_100,
             worst_ratio: self.worst_ratio.max(other.worst_ratio),
+            least_ratio: self.least_ratio.min(other.least_ratio),
         }
     }
 
@@ -361,15 +378,16 @@ impl PredictionTally {
     /// `family`.
     pub fn table(&self, family: &str) -> String {
         let mut s = format!(
-            "| {family} | cases | under-predicted | within 100× | worst predicted/measured |\n|---|---|---|---|---|\n"
+            "| {family} | cases | under-predicted | within 100× | predicted/measured: least | largest |\n|---|---|---|---|---|---|\n"
         );
         let line = |name: &str, r: &PredictionRow| {
             format!(
-                "| {name} | {} | {} | {} ({:.1}%) | {:.3e} |\n",
+                "| {name} | {} | {} | {} ({:.1}%) | {:.3} | {:.3e} |\n",
                 r.cases,
                 r.under,
                 r.within_100,
                 100.0 * r.fraction_within_100(),
+                r.least_ratio,
                 r.worst_ratio
             )
         };
