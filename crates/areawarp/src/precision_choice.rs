@@ -370,9 +370,9 @@ impl Advisable for SphericalRectangle<f64> {
         // The f64 constructor computes a local coordinate as d·ê (d = s − o
         // rounded coordinate-wise, ê a unit vector of the rounded frame):
         // its rounding scales with 2⁻⁵³·Σ|dᵢ|·(|êᵢ| + the rounding of
-        // êᵢ), the step is twice that (one ulp of |d| on a frame at random
-        // orientation; on a frame aligned with the axes, where only the
-        // coordinate itself is rounded, one ulp of it).
+        // êᵢ). The step is one ulp of |d|, or twice that sum where it is
+        // smaller (a frame aligned with the axes, where only the coordinate
+        // itself is rounded).
         let [s, ex, ey, o] = [0, 3, 6, 9].map(|i| v3(p, i));
         let xhat = ex.scale(&(1.0 / ex.norm()));
         let ey_perp = ey.sub(&xhat.scale(&ey.dot(&xhat)));
@@ -391,7 +391,11 @@ impl Advisable for SphericalRectangle<f64> {
         let ex_err = f64_error(xa.map(|x| 2.0 * x));
         let ey_err = f64_error(ya.map(|y| 2.0 * y));
         let h_err = f64_error([0, 1, 2].map(|i| 2.0 * (za[i] + z_round[i])));
-        let offset = |x: f64, err: f64| Step::Absolute(ulp(x).max(err));
+        let ulp_d = {
+            let d = (x0 * x0 + y0 * y0 + h * h).sqrt();
+            d.next_up() - d
+        };
+        let offset = |x: f64, err: f64| Step::Absolute(ulp(x).max(err.min(ulp_d)));
         let length = |x: f64| Step::Absolute(ulp(x));
         Ok(RoundingModel {
             params: vec![x0, y0, -h, lx, 0.0, 0.0, 0.0, ly, 0.0, 0.0, 0.0, 0.0],

@@ -284,8 +284,8 @@ pub struct PredictionRow {
     pub within_100: usize,
     /// The largest `predicted / measured` (1 when both are ∞).
     pub worst_ratio: f64,
-    /// The smallest `predicted / measured`: the margin of the bound (< 1
-    /// for an under-prediction); ∞ for no cases.
+    /// The smallest `predicted / measured` over the finite measurements:
+    /// the margin of the bound (< 1 for an under-prediction); ∞ for none.
     pub least_ratio: f64,
 }
 
@@ -313,7 +313,9 @@ impl PredictionRow {
             predicted / measured
         };
         self.worst_ratio = self.worst_ratio.max(ratio);
-        self.least_ratio = self.least_ratio.min(ratio);
+        if measured.is_finite() {
+            self.least_ratio = self.least_ratio.min(ratio);
+        }
     }
 
     /// The sum of two rows.

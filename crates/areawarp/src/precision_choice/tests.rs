@@ -99,6 +99,48 @@ mod ladder {
         tally.add(&advice, &measured);
     }
 
+    /// Grazing observers above the interior (the map depends on the sign of
+    /// `h`, which `f64` cannot resolve from world coordinates) and beside
+    /// the rectangle, at scales 1 and 1e28, in a generic frame: whatever the
+    /// evaluations' errors (up to "no digit"), the predictions bound them.
+    #[test]
+    fn grazing_rectangles_at_large_scales_are_bounded() {
+        let a = Vec3::new(2.0, -1.0, 2.0).scale(&(1.0 / 3.0));
+        let b = Vec3::new(2.0, 2.0, -1.0).scale(&(1.0 / 3.0));
+        let n = Vec3::new(-1.0, 2.0, 2.0).scale(&(1.0 / 3.0));
+        let corner = Vec3::new(0.37, -1.21, 0.73);
+        let pts = points();
+        let mut worst_f64 = 0.0f64;
+        for k in [1.0, 1e28] {
+            for (fx, fy) in [(0.3, 0.45), (-0.4, 0.3)] {
+                for h in [1e-9, 1e-15, 1e-20, 1e-30] {
+                    let s = corner.scale(&k);
+                    let o = s
+                        .add(&a.scale(&(fx * k)))
+                        .add(&b.scale(&(fy * k)))
+                        .add(&n.scale(&(h * k)));
+                    let Ok(r) = SphericalRectangle::<f64>::new(s, a.scale(&k), b.scale(&k), o)
+                    else {
+                        continue;
+                    };
+                    let advice = advise(&r).unwrap();
+                    for m in measure(&r, &pts).unwrap().iter().filter(|m| m.accepted) {
+                        let p = advice.predicted(m.evaluation);
+                        println!(
+                            "k {k:e} foot ({fx}, {fy}) h {h:e} {}: predicted {p:.3e} measured {:.3e}",
+                            m.evaluation, m.worst_error
+                        );
+                        assert!(p >= m.worst_error, "{k} {fx} {fy} {h} {}", m.evaluation);
+                        if m.evaluation == Evaluation::RobustF64 {
+                            worst_f64 = worst_f64.max(m.worst_error);
+                        }
+                    }
+                }
+            }
+        }
+        println!("worst f64 robust error: {worst_f64:e}");
+    }
+
     /// Predicted ≥ measured everywhere; ≥ 90% within 100× per family and
     /// over both.
     #[test]
