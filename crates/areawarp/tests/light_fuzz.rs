@@ -666,8 +666,8 @@ mod issue_13 {
 
     /// The predictions alone (no audit) over more shapes:
     /// `AREAWARP_CASES` (default 2500) triangles and rectangles;
-    /// `AREAWARP_OUTLIERS=1` prints every case under-predicted or beyond
-    /// 100×.
+    /// `AREAWARP_OUTLIERS=1` prints every case beyond 100× or predicted
+    /// less than 1.25× its measured error.
     #[test]
     #[ignore = "large: advise and measure at 256 bits on 2500 + 2500 shapes (minutes)"]
     fn predictions_random_shapes() {
@@ -690,7 +690,7 @@ mod issue_13 {
             };
             for m in measured.iter().filter(|m| m.accepted) {
                 let p = advice.predicted(m.evaluation);
-                if outliers && !(p >= m.worst_error && p <= 100.0 * m.worst_error) {
+                if outliers && !(p >= 1.25 * m.worst_error && p <= 100.0 * m.worst_error) {
                     println!(
                         "OUT {} ratio {:.3e} predicted {p:.3e} measured {:.3e} κ32 {:.3e} κ64 {:.3e} κmix {:.3e}: {label}",
                         m.evaluation,
