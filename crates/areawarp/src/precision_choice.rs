@@ -16,21 +16,30 @@
 //! | [`Evaluation::MixedF32`] (f32 in and out, f64 arithmetic: [`Mixed`]) | `2⁻²⁴ + 16·max(2⁻⁵³, κ₆₄')` (κ₆₄' of the shape rounded to f32, plus the final rounding) |
 //! | [`Evaluation::RobustF64`] | `16·max(2⁻⁵³, κ₆₄)` |
 //! | (any robust one, when the above is `≥ 1/4`) | 2: no digit left (the largest distance of two unit vectors) |
-//! | [`Evaluation::LiteralF32`], [`Evaluation::LiteralF64`] | `4·e + 16·max(u, κ)`, `e` the literal map's error observed at the probes against the robust `f64` map; `∞` if it is NaN at a probe |
+//! | [`Evaluation::LiteralF32`], [`Evaluation::LiteralF64`] | `4·e + 16·max(u, κ) + c`, `e` the literal map's error observed at the probes against the robust `f64` map, `c` the error of a cut-off of the published algorithm bounded from the geometry ([`Advisable::literal_cutoff_error`]: the rectangle's `h_v² ≥ 1 − ε ⇒ y_v = y₁`); `∞` if it is NaN at a probe |
 //!
 //! The robust maps are as accurate as their inputs allow — within
 //! `16·max(u, κ)` of the exact map, measured against 256 bits on the hard
 //! ladders and on random shapes — so their prediction is an upper bound by
 //! construction, and not a loose one: they stay within 0.04–0.25 of it. The
 //! papers' literal algorithms have no such bound (their cancellations are
-//! not the shape's), so theirs is measured at the probes and kept for
-//! comparison; [`Advice::choose`] never picks them.
+//! not the shape's), so theirs is measured at the probes, plus what their
+//! cut-offs can cost where no probe lands, and kept for comparison;
+//! [`Advice::choose`] never picks them.
 //!
 //! κ₃₂ is measured by one-`f32`-ulp perturbations evaluated with the robust
 //! `f64` map (the definition of κ, evaluated `2²⁹` times more precisely
 //! than the effect it measures); κ₆₄ by perturbations of `2¹⁶` `f64` ulps,
 //! divided by `2¹⁶` (a linearization whose rounding noise is `2⁻¹⁶` of the
-//! map's own error). The probes are the extremes grid (`u, v ∈ {0, 2⁻⁶⁰,
+//! map's own error). What is perturbed is what the evaluation rounds
+//! ([`Advisable::rounding_model`]): the triangle's vertex coordinates; the
+//! rectangle's local coordinates `x₀, y₀, h` and edge lengths (by one ulp of
+//! the arithmetic, or by the rounding of the `f64` dot products that compute
+//! them from `s − o`, whichever is larger), not the world coordinates of
+//! its corner and observer — those overstate the rounding of a rectangle
+//! whose corner is far from the origin, and put a grazing observer exactly
+//! on the plane (rejected) although `h` crossing zero moves the map only if
+//! the observer's foot is on the rectangle. The probes are the extremes grid (`u, v ∈ {0, 2⁻⁶⁰,
 //! 10⁻¹², 10⁻⁶, ½, 1 − 10⁻⁶, 1 − 10⁻¹², 1}`, where the maps' conditioning is
 //! worst) and 16 random points. Cost: about 60 constructions and 5 000 map
 //! evaluations in `f64`, ≈ 0.3 ms: a per-light decision at scene load, not
@@ -59,6 +68,7 @@
 //! # Ok::<(), areawarp::WarpError>(())
 //! ```
 
+mod kappa;
 #[cfg(feature = "mpfr")]
 pub mod measure;
 mod mixed;
@@ -73,6 +83,7 @@ use crate::shapes::{
 };
 use crate::vector::Vec3;
 use crate::warp::{Warp, WarpFamily};
+use kappa::Format;
 
 /// A way to evaluate a light shape: a variant in a scalar type, or the
 /// mixed mode.
@@ -203,6 +214,60 @@ pub trait Advisable: WarpFamily<f64, Point = Vec3<f64>> + Sized {
     fn build<S: Real>(p: &[S], literal: bool, input_bits: u32) -> Result<Self::In<S>, WarpError>;
     /// ψ⁻¹ without the on-shape test.
     fn inverse_unchecked<S: Real>(w: &Self::In<S>, p: &Vec3<S>) -> Option<(S, S)>;
+    /// The largest error the literal algorithm makes by design (not by
+    /// rounding) on the shape of parameters `p` in `arithmetic_bits` (24 or
+    /// 53): a cut-off that replaces a computed value near a singularity by
+    /// a limit; 2 if it can jump across the shape. 0 by default.
+    fn literal_cutoff_error(p: &[f64], arithmetic_bits: u32) -> f64 {
+        let _ = (p, arithmetic_bits);
+        0.0
+    }
+    /// The numbers an evaluation in `arithmetic_bits` (24 or 53) rounds
+    /// when it builds the shape of parameters `p` (given with `input_bits`
+    /// of precision), and by how much: what κ of the evaluation perturbs.
+    /// By default the parameters themselves, each by one ulp.
+    ///
+    /// # Errors
+    /// [`WarpError`] if the shape of `p` cannot be built in `f64`.
+    fn rounding_model(
+        p: &[f64],
+        arithmetic_bits: u32,
+        input_bits: u32,
+    ) -> Result<RoundingModel, WarpError> {
+        let _ = (arithmetic_bits, input_bits);
+        Ok(RoundingModel {
+            params: p.to_vec(),
+            steps: vec![Step::Ulp; p.len()],
+            local_frame: false,
+        })
+    }
+}
+
+/// How one number of a [`RoundingModel`] is perturbed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step {
+    /// By one ulp of the evaluation's arithmetic.
+    Ulp,
+    /// By this absolute amount (the rounding error of a computed quantity,
+    /// e.g. a coordinate of a difference rounded with the difference's
+    /// magnitude).
+    Absolute(f64),
+    /// Not perturbed (exact: a zero coordinate of a canonical frame).
+    Fixed,
+}
+
+/// The parameters (of [`Advisable::build`]) whose roundings model what an
+/// evaluation's constructor rounds, and the size of each rounding.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoundingModel {
+    /// Parameters of the same shape, possibly moved to a canonical frame.
+    pub params: Vec<f64>,
+    /// One step per parameter.
+    pub steps: Vec<Step>,
+    /// `true` if `params` place the shape in a local frame (rotated and
+    /// translated): moves are then measured in the Euclidean norm, which
+    /// bounds the max norm in any frame.
+    pub local_frame: bool,
 }
 
 fn v3<S: Real>(p: &[S], i: usize) -> Vec3<S> {
@@ -262,6 +327,135 @@ impl Advisable for SphericalRectangle<f64> {
     fn inverse_unchecked<S: Real>(w: &SphericalRectangle<S>, p: &Vec3<S>) -> Option<(S, S)> {
         w.inverse_unchecked(p)
     }
+    /// The published algorithm replaces the row `y_v` by `y₁` wherever
+    /// `h_v² ≥ 1 − ε` (`ε = 10⁻⁶`, "to avoid NaNs"): every direction within
+    /// `φ_c = asin √ε` of `±ŷ` in its column's plane goes to the top edge.
+    /// The bound is derived in `docs/precision-choice.md`.
+    fn literal_cutoff_error(p: &[f64], arithmetic_bits: u32) -> f64 {
+        let Ok(r) = Self::build(p, false, arithmetic_bits.min(53)) else {
+            return 0.0;
+        };
+        let ([x0, y0, h, lx, ly], _) = r.local_coordinates();
+        let u = 2f64.powi(-(arithmetic_bits as i32));
+        literal_cutoff_error(x0, x0 + lx, y0, y0 + ly, h, 1e-6 + 16.0 * u)
+    }
+    /// The rectangle in its local frame, the numbers its robust map
+    /// computes from: corner `(x₀, y₀, −h)`, edges `(ℓx, 0, 0)`, `(0, ℓy,
+    /// 0)`, observer at the origin (scaled by a power of two). The
+    /// constructor computes them in `f64` from `d = s − o` (each coordinate
+    /// rounded relative to itself, exact for nearby s and o) by dot products
+    /// with the frame: `x₀`, `y₀`, `h` carry absolute errors of about one
+    /// `f64` ulp of `|d|`; an `f32` shape rounds them, and the lengths, to
+    /// `f32` (one `f32` ulp of each). Perturbing the world coordinates of `s`
+    /// and `o` instead would count the rounding of `|s|` (a corner 50× as
+    /// far from the origin as from the observer: 50× too much) and, for a
+    /// grazing observer, an `f64` ulp of `o` that puts it exactly on the
+    /// plane (rejected), although `h` crossing zero does not move the map
+    /// unless the observer's foot is on the rectangle.
+    fn rounding_model(
+        p: &[f64],
+        arithmetic_bits: u32,
+        input_bits: u32,
+    ) -> Result<RoundingModel, WarpError> {
+        let r = Self::build(p, false, input_bits)?;
+        let ([x0, y0, h, lx, ly], e) = r.local_coordinates();
+        let ulp = |x: f64| {
+            if arithmetic_bits == 24 {
+                let y = (x.abs() as f32).max(f32::MIN_POSITIVE);
+                f64::from(y.next_up()) - f64::from(y)
+            } else {
+                x.abs().next_up() - x.abs()
+            }
+        };
+        // The f64 constructor computes a local coordinate as d·ê (d = s − o
+        // rounded coordinate-wise, ê a unit vector of the rounded frame):
+        // its rounding scales with 2⁻⁵³·Σ|dᵢ|·(|êᵢ| + the rounding of
+        // êᵢ). The step is one ulp of |d|, or twice that sum where it is
+        // smaller (a frame aligned with the axes, where only the coordinate
+        // itself is rounded).
+        let [s, ex, ey, o] = [0, 3, 6, 9].map(|i| v3(p, i));
+        let xhat = ex.scale(&(1.0 / ex.norm()));
+        let ey_perp = ey.sub(&xhat.scale(&ey.dot(&xhat)));
+        let yhat = ey_perp.scale(&(1.0 / ey_perp.norm()));
+        let zhat = xhat.cross(&yhat);
+        let d = s.sub(&o);
+        let [da, xa, ya, za] = [&d, &xhat, &yhat, &zhat].map(|v| [v.x.abs(), v.y.abs(), v.z.abs()]);
+        // ẑ = x̂ × ŷ: each component a difference of two products.
+        let z_round = [
+            xa[1] * ya[2] + xa[2] * ya[1],
+            xa[2] * ya[0] + xa[0] * ya[2],
+            xa[0] * ya[1] + xa[1] * ya[0],
+        ];
+        let scale = 2f64.powi(-e);
+        let f64_error = |w: [f64; 3]| U64 * scale * (0..3).map(|i| da[i] * w[i]).sum::<f64>();
+        let ex_err = f64_error(xa.map(|x| 2.0 * x));
+        let ey_err = f64_error(ya.map(|y| 2.0 * y));
+        let h_err = f64_error([0, 1, 2].map(|i| 2.0 * (za[i] + z_round[i])));
+        let ulp_d = {
+            let d = (x0 * x0 + y0 * y0 + h * h).sqrt();
+            d.next_up() - d
+        };
+        let offset = |x: f64, err: f64| Step::Absolute(ulp(x).max(err.min(ulp_d)));
+        let length = |x: f64| Step::Absolute(ulp(x));
+        Ok(RoundingModel {
+            params: vec![x0, y0, -h, lx, 0.0, 0.0, 0.0, ly, 0.0, 0.0, 0.0, 0.0],
+            steps: vec![
+                offset(x0, ex_err),
+                offset(y0, ey_err),
+                offset(h, h_err),
+                length(lx),
+                Step::Fixed,
+                Step::Fixed,
+                Step::Fixed,
+                length(ly),
+                Step::Fixed,
+                Step::Fixed,
+                Step::Fixed,
+                Step::Fixed,
+            ],
+            local_frame: true,
+        })
+    }
+}
+
+/// The largest error of the rectangle's published cut-off `h_v² ≥ 1 − ε ⇒
+/// y_v = y₁` on the rectangle `[x₀, x₁] × [y₀, y₁]` at `z = −h`: in the
+/// plane of the column at distance `d = √(x² + h²)` a row `y` is seen at the
+/// angle `θ(y) = atan2(d, y)` from `ŷ`, and the cut-off moves every row with
+/// `|y| ≥ d cot φ_c` (`tan φ_c = √(ε/(1 − ε))`) to `y₁`: an error
+/// `θ(y) − θ(y₁)` (≥ the chord, ≥ the max norm). Rows near `+ŷ`: largest at
+/// `y = max(y₀, d cot φ_c)`, over the columns at `d* = y₀ tan φ_c` (below,
+/// `atan(d/y₀) − atan(d/y₁)` grows with `d`; above, `φ_c − atan(d/y₁)`
+/// falls) clamped to `[d_min, d_max]`. Rows near `−ŷ` (possible only if
+/// `−y₀ ≥ d_min cot φ_c`) jump to `y₁`: across the rectangle (2, no digit)
+/// if `y₁ ≥ 0`, else by `θ(y₀) − θ(y₁)`, largest at `d = min(−y₀ tan φ_c,
+/// d_max)`. `ε` includes the rounding of `h_v²`.
+fn literal_cutoff_error(x0: f64, x1: f64, y0: f64, y1: f64, h: f64, eps: f64) -> f64 {
+    let t = (eps / (1.0 - eps)).sqrt();
+    let d_min = 0f64.clamp(x0, x1).hypot(h);
+    let d_max = x0.abs().max(x1.abs()).hypot(h);
+    let theta = |y: f64, d: f64| d.atan2(y);
+    let mut err = 0.0f64;
+    if y1 > 0.0 {
+        let d = if y0 > 0.0 {
+            (y0 * t).clamp(d_min, d_max)
+        } else {
+            d_min
+        };
+        let lo = y0.max(d / t);
+        if lo <= y1 {
+            err = err.max(theta(lo, d) - theta(y1, d));
+        }
+    }
+    if y0 < 0.0 && -y0 >= d_min / t {
+        if y1 >= 0.0 {
+            return 2.0;
+        }
+        let d = (-y0 * t).min(d_max);
+        err = err.max(theta(y0, d) - theta(y1, d));
+    }
+    // Rounding of the angles: a relative 2⁻⁴⁰.
+    err * (1.0 + 1e-12)
 }
 
 /// The probes of [`advise`]: the extremes grid and 16 random points.
@@ -303,15 +497,18 @@ pub fn advise<W: Advisable>(w: &W) -> Result<Advice, WarpError> {
     let params = w.parameters();
     let probes = probes();
     let rounded: Vec<f64> = params.iter().map(|&x| f64::from(x as f32)).collect();
-    let kappa_f64 = evaluation_kappa::<W>(&params, &probes, Format::F64)?;
+    let kappa_f64 = kappa::evaluation_kappa::<W>(&params, &probes, Format::F64)?;
     // A shape that f32 cannot hold (rounded to f32, it is degenerate or out
     // of range): no f32 evaluation, predicted error ∞.
-    let kappa_f32 = evaluation_kappa::<W>(&rounded, &probes, Format::F32).unwrap_or(f64::INFINITY);
-    let kappa_mixed =
-        evaluation_kappa::<W>(&rounded, &probes, Format::F64InputsF32).unwrap_or(f64::INFINITY);
+    let kappa_f32 =
+        kappa::evaluation_kappa::<W>(&rounded, &probes, Format::F32).unwrap_or(f64::INFINITY);
+    let kappa_mixed = kappa::evaluation_kappa::<W>(&rounded, &probes, Format::F64InputsF32)
+        .unwrap_or(f64::INFINITY);
     let dense = literal_probes();
     let literal_f32 = literal_error::<W, f32>(&params, &dense);
     let literal_f64 = literal_error::<W, f64>(&params, &dense);
+    let cutoff_f32 = W::literal_cutoff_error(&rounded, 24);
+    let cutoff_f64 = W::literal_cutoff_error(&params, 53);
     let predictions = Evaluation::ALL
         .into_iter()
         .map(|evaluation| Prediction {
@@ -320,8 +517,12 @@ pub fn advise<W: Advisable>(w: &W) -> Result<Advice, WarpError> {
                 Evaluation::RobustF32 => no_digits(FACTOR * U32.max(kappa_f32)),
                 Evaluation::MixedF32 => no_digits(U32 + FACTOR * U64.max(kappa_mixed)),
                 Evaluation::RobustF64 => no_digits(FACTOR * U64.max(kappa_f64)),
-                Evaluation::LiteralF32 => 4.0 * literal_f32 + FACTOR * U32.max(kappa_f32),
-                Evaluation::LiteralF64 => 4.0 * literal_f64 + FACTOR * U64.max(kappa_f64),
+                Evaluation::LiteralF32 => {
+                    4.0 * literal_f32 + FACTOR * U32.max(kappa_f32) + cutoff_f32
+                }
+                Evaluation::LiteralF64 => {
+                    4.0 * literal_f64 + FACTOR * U64.max(kappa_f64) + cutoff_f64
+                }
             },
         })
         .collect();
@@ -339,184 +540,6 @@ pub fn advise<W: Advisable>(w: &W) -> Result<Advice, WarpError> {
 /// where the map is that ill-conditioned, and no longer bounds the error.)
 fn no_digits(bound: f64) -> f64 {
     if bound >= 0.25 { 2.0 } else { bound }
-}
-
-/// Whose roundoff the perturbations of [`evaluation_kappa`] are.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Format {
-    /// `f32` data and arithmetic: one-`f32`-ulp steps.
-    F32,
-    /// `f64` data and arithmetic: `2^K`-ulp steps, divided by `2^K`.
-    F64,
-    /// `f32` data (the perpendicularity tolerance of `f32` input), `f64`
-    /// arithmetic: `f64` steps.
-    F64InputsF32,
-}
-
-impl Format {
-    /// The input precision the shapes are built with.
-    fn input_bits(self) -> u32 {
-        match self {
-            Format::F32 | Format::F64InputsF32 => 24,
-            Format::F64 => 53,
-        }
-    }
-    /// The parameter `x` moved up or down by `ulps` ulps of the format.
-    fn neighbour(self, x: f64, up: bool, ulps: f64) -> f64 {
-        match self {
-            Format::F32 => {
-                let mut y = x as f32;
-                for _ in 0..(ulps as u32).max(1) {
-                    y = if up { y.next_up() } else { y.next_down() };
-                }
-                f64::from(y)
-            }
-            Format::F64 | Format::F64InputsF32 => {
-                let ulp = if up {
-                    x.next_up() - x
-                } else {
-                    x - x.next_down()
-                };
-                if up { x + ulp * ulps } else { x - ulp * ulps }
-            }
-        }
-    }
-    /// One ulp of `x ≥ 0` in this format's arithmetic (upwards).
-    fn ulp(self, x: f64) -> f64 {
-        match self {
-            Format::F32 => {
-                let y = x as f32;
-                f64::from(y.next_up()) - f64::from(y)
-            }
-            Format::F64 | Format::F64InputsF32 => x.next_up() - x,
-        }
-    }
-}
-
-/// κ of the evaluation at the probes: the largest move of the robust map
-/// (evaluated in `f64`) under a one-ulp change, in `format`, of one
-/// parameter, or of `ũ = min(u, 1 − u)` or `ṽ = min(v, 1 − v)`.
-///
-/// Unlike the harness's κ
-/// ([`sensitivities_in`](crate::harness::sensitivity::sensitivities_in)),
-/// which moves `u` by one
-/// ulp of `u`, the sample coordinates are perturbed relative to the nearer
-/// end of `[0, 1]`: the robust maps compute from `1 − u` for `u > 1/2`
-/// (exactly, by Sterbenz's lemma), so near `u = 1` their rounding errors
-/// are those of `1 − u`, not of `u`. Near the degenerate corners of a
-/// nearly hemispherical triangle the map moves by O(1) under one ulp of
-/// `u` ≈ 1, which the evaluation never does. `ũ`'s part is the derivative
-/// (a one-sided difference of step `max(ũ/4096, 256 ulp(u))` towards the
-/// interior) times one ulp of `ũ`.
-fn evaluation_kappa<W: Advisable>(
-    params: &[f64],
-    probes: &[(f64, f64)],
-    format: Format,
-) -> Result<f64, WarpError> {
-    let scale = if format == Format::F32 {
-        1.0
-    } else {
-        2f64.powi(K)
-    };
-    // Steps of 2^16 f64 ulps exceed a perpendicularity tolerance of 64
-    // ulps: the perturbed rectangles are built with 2^(−(53 − 16)) slack.
-    let bits = if format == Format::F32 {
-        24
-    } else {
-        format.input_bits().min(53 - K as u32)
-    };
-    let base = W::build(params, false, bits)?;
-    let inputs: Vec<(f64, f64)> = probes
-        .iter()
-        .map(|&(u, v)| match format {
-            Format::F32 | Format::F64InputsF32 => (f64::from(u as f32), f64::from(v as f32)),
-            Format::F64 => (u, v),
-        })
-        .collect();
-    let reference: Vec<Vec3<f64>> = inputs.iter().map(|(u, v)| base.map(u, v)).collect();
-    if reference.iter().any(|p| !p.is_finite()) {
-        return Err(WarpError::NonFinite {
-            what: "map at a probe",
-        });
-    }
-    let mut kappa = 0.0f64;
-    // Parameters: one rebuilt shape per perturbation. In f64, steps of
-    // 2^K ulps divided by 2^K (the linearization, free of the map's own
-    // rounding noise), and of one ulp: far above the linearization (> 4×),
-    // the map is not linear at the scale of one ulp (an observer one ulp
-    // above the plane) and the one-ulp move is κ.
-    let mut perturbed = params.to_vec();
-    let (mut linear, mut one_ulp) = (0.0f64, 0.0f64);
-    let steps: &[f64] = if format == Format::F32 {
-        &[1.0]
-    } else {
-        &[2f64.powi(K), 1.0]
-    };
-    for i in 0..params.len() {
-        let x = params[i];
-        for &ulps in steps {
-            for up in [true, false] {
-                perturbed[i] = format.neighbour(x, up, ulps);
-                let mut built = W::build(&perturbed, false, bits);
-                // One ulp from a shape the constructor rejects (an observer
-                // one ulp off the plane): the move to the shape two or four
-                // ulps away, on the far side, counts as a one-ulp move; if
-                // those are rejected too, no digit can be promised.
-                let mut far = ulps;
-                while built.is_err() && ulps == 1.0 && far < 4.0 {
-                    far *= 2.0;
-                    perturbed[i] = format.neighbour(x, up, far);
-                    built = W::build(&perturbed, false, bits);
-                }
-                perturbed[i] = x;
-                let Ok(w) = built else {
-                    if ulps == 1.0 {
-                        return Ok(f64::INFINITY);
-                    }
-                    continue;
-                };
-                for (k, (u, v)) in inputs.iter().enumerate() {
-                    let p = w.map(u, v);
-                    if p.is_finite() {
-                        let m = p.sub(&reference[k]).max_abs();
-                        if ulps == 1.0 && scale > 1.0 {
-                            one_ulp = one_ulp.max(m);
-                        } else {
-                            linear = linear.max(m / scale);
-                        }
-                    }
-                }
-            }
-        }
-    }
-    kappa = kappa.max(if one_ulp > 4.0 * linear {
-        one_ulp
-    } else {
-        linear
-    });
-    // ũ and ṽ: derivative towards the interior times one ulp of ũ.
-    for (k, &(u, v)) in inputs.iter().enumerate() {
-        for along_u in [true, false] {
-            let x = if along_u { u } else { v };
-            let tilde = x.min(1.0 - x);
-            if tilde <= 0.0 {
-                continue;
-            }
-            let h = (tilde / 4096.0).max(256.0 * (x.next_up() - x));
-            let moved = if x <= 0.5 { x + h } else { x - h };
-            let dh = (moved - x).abs();
-            let p = if along_u {
-                base.map(&moved, &v)
-            } else {
-                base.map(&u, &moved)
-            };
-            if p.is_finite() && dh > 0.0 {
-                let slope = p.sub(&reference[k]).max_abs() / dh;
-                kappa = kappa.max(slope * format.ulp(tilde));
-            }
-        }
-    }
-    Ok(kappa)
 }
 
 /// The literal map's largest error at the probes, in `S` on the parameters

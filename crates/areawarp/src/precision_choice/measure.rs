@@ -271,3 +271,132 @@ fn inverse_kappa<W: Advisable>(exact: &W::In<M>, p: &Vec3<f32>) -> f64 {
     }
     k
 }
+
+/// Predicted against measured worst errors of one evaluation over a set of
+/// shapes (see [`PredictionTally`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PredictionRow {
+    /// Shapes whose evaluation was accepted (and measured).
+    pub cases: usize,
+    /// Shapes where the measured error exceeds the prediction.
+    pub under: usize,
+    /// Shapes where the prediction is at most 100× the measured error.
+    pub within_100: usize,
+    /// The largest `predicted / measured` (1 when both are ∞).
+    pub worst_ratio: f64,
+    /// The smallest `predicted / measured` over the finite measurements:
+    /// the margin of the bound (< 1 for an under-prediction); ∞ for none.
+    pub least_ratio: f64,
+}
+
+impl Default for PredictionRow {
+    fn default() -> Self {
+        PredictionRow {
+            cases: 0,
+            under: 0,
+            within_100: 0,
+            worst_ratio: 0.0,
+            least_ratio: f64::INFINITY,
+        }
+    }
+}
+
+impl PredictionRow {
+    /// Counts one shape.
+    pub fn add(&mut self, predicted: f64, measured: f64) {
+        self.cases += 1;
+        self.under += usize::from(!(predicted >= measured));
+        self.within_100 += usize::from(predicted <= 100.0 * measured);
+        let ratio = if predicted == measured {
+            1.0
+        } else {
+            predicted / measured
+        };
+        self.worst_ratio = self.worst_ratio.max(ratio);
+        if measured.is_finite() {
+            self.least_ratio = self.least_ratio.min(ratio);
+        }
+    }
+
+    /// The sum of two rows.
+    pub fn merged(&self, other: &PredictionRow) -> PredictionRow {
+        PredictionRow {
+            cases: self.cases + other.cases,
+            under: self.under + other.under,
+            within_100: self.within_100 + other.within_100,
+            worst_ratio: self.worst_ratio.max(other.worst_ratio),
+            least_ratio: self.least_ratio.min(other.least_ratio),
+        }
+    }
+
+    /// The fraction of cases within 100× (1 for no cases).
+    pub fn fraction_within_100(&self) -> f64 {
+        if self.cases == 0 {
+            1.0
+        } else {
+            self.within_100 as f64 / self.cases as f64
+        }
+    }
+}
+
+/// Predicted against measured worst errors per [`Evaluation`], over a set
+/// of shapes: what issue 13 asks of [`advise`](super::advise) (no
+/// under-prediction, ≥ 90% within 100×).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PredictionTally {
+    /// One row per evaluation.
+    pub rows: std::collections::BTreeMap<Evaluation, PredictionRow>,
+}
+
+impl PredictionTally {
+    /// Counts the accepted evaluations of one shape.
+    pub fn add(&mut self, advice: &super::Advice, measured: &[Measured]) {
+        for m in measured.iter().filter(|m| m.accepted) {
+            self.rows
+                .entry(m.evaluation)
+                .or_default()
+                .add(advice.predicted(m.evaluation), m.worst_error);
+        }
+    }
+
+    /// All evaluations together.
+    pub fn total(&self) -> PredictionRow {
+        self.rows
+            .values()
+            .fold(PredictionRow::default(), |a, r| a.merged(r))
+    }
+
+    /// The tally of both sets of shapes.
+    pub fn merged(&self, other: &PredictionTally) -> PredictionTally {
+        let mut out = self.clone();
+        for (e, r) in &other.rows {
+            let row = out.rows.entry(*e).or_default();
+            *row = row.merged(r);
+        }
+        out
+    }
+
+    /// A markdown table: one row per evaluation and the total, headed by
+    /// `family`.
+    pub fn table(&self, family: &str) -> String {
+        let mut s = format!(
+            "| {family} | cases | under-predicted | within 100× | predicted/measured: least | largest |\n|---|---|---|---|---|---|\n"
+        );
+        let line = |name: &str, r: &PredictionRow| {
+            format!(
+                "| {name} | {} | {} | {} ({:.1}%) | {:.3} | {:.3e} |\n",
+                r.cases,
+                r.under,
+                r.within_100,
+                100.0 * r.fraction_within_100(),
+                r.least_ratio,
+                r.worst_ratio
+            )
+        };
+        for (e, r) in &self.rows {
+            s += &line(e.label(), r);
+        }
+        s += &line("all", &self.total());
+        s
+    }
+}

@@ -302,6 +302,25 @@ impl<T: Real> SphericalRectangle<T> {
         ]
     }
 
+    /// The rectangle in its local frame (observer at the origin, edges
+    /// along the axes, plane `z = −h`): `[x₀, y₀, h, ℓx, ℓy]` scaled by
+    /// `2^(−e)` so that the largest is in `[1, 2)`, and `e`. The corner is
+    /// `(x₀, y₀, −h)`, the edges `(ℓx, 0, 0)` and `(0, ℓy, 0)`: the numbers
+    /// the robust map computes from, as rounded to `T`.
+    pub fn local_coordinates(&self) -> ([T; 5], i32) {
+        let g = &self.geometry;
+        (
+            [
+                g.x0.clone(),
+                g.y0.clone(),
+                g.h.clone(),
+                g.lx.clone(),
+                g.ly.clone(),
+            ],
+            g.exp,
+        )
+    }
+
     /// The unit normal of the rectangle's plane on the observer's side.
     pub fn normal(&self) -> &Vec3<T> {
         &self.geometry.zhat
