@@ -313,7 +313,22 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
         sf_rectangle_figs,
     );
     section(&mut ufk, pf.ufk_markdown(), paper_figs("ufk2013"));
-    let eq = crate::studies::equal_time::run(&var, &cost);
+    let eq = step(
+        "equal time (CPU-timed estimators) and cubic-only bias",
+        || {
+            use crate::studies::equal_time::EqualTimeConfig;
+            let mut cfg = if quick {
+                EqualTimeConfig::quick()
+            } else {
+                EqualTimeConfig::default()
+            };
+            if large {
+                cfg.rounds = 2 * cfg.rounds + 1;
+            }
+            Ok(crate::studies::equal_time::run(&var, &cfg)?)
+        },
+    )?;
+    eq.write_csv(out)?;
     let f = eq.write_figures(&figs)?;
     section(&mut ufk, eq.to_markdown(), f);
     let mut urena = String::new();

@@ -196,6 +196,7 @@ impl Default for VarianceConfig {
                 Method::mis(Sampler::TrianglePair, Heuristic::Balance),
                 Method::plain(Sampler::Area),
                 Method::plain(Sampler::ProjectedPolygon),
+                Method::plain(Sampler::ProjectedPolygonCubic),
                 Method::plain(Sampler::BilinearRectangle),
             ],
         }
