@@ -15,6 +15,8 @@
 
 pub mod inversion;
 mod output;
+#[cfg(test)]
+mod tests;
 pub mod timing;
 
 use self::inversion::{BiasConfig, InversionBias};
