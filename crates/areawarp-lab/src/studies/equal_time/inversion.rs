@@ -215,7 +215,8 @@ impl InversionBias {
             if d.p() < 0.05 {
                 format!(
                     "**Arvo's \"not warranted\" does not hold exactly here:** the cubic-only map's irradiance differs from Newton's by \
-                     {:.2e} relative (z = {:.1}, p = {}), a real bias, though {} the error of a 256-spp estimate in the tables above.",
+                     {:.2e} relative (z = {:.1}, p = {}), a real bias, though {} the RMS errors of the estimates in the equal-time tables \
+                     (which include it: the cubic-only row's RMS is bias and noise together).",
                     d.bias,
                     d.z(),
                     sig3(d.p()),

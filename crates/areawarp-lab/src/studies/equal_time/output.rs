@@ -129,7 +129,7 @@ impl EqualTime {
              per light sample the draw, the pdf, the irradiance integrand (ray–light test, radiance, cosine) with the scene's \
              visibility tests and, for MIS, the cosine sample and every pdf the balance weights need; the strategies' construction \
              is charged once per receiver; generating the points is not timed. \
-             The clock is the thread's {} (waiting for a core another process holds is not counted), the methods are interleaved \
+             The clock is the thread's {}: waiting for a core another process holds is not counted. The methods are interleaved \
              within each round (rotating which goes first) after an untimed warm-up round, and the cost is the *minimum* over rounds — \
              load only adds time — with the median and quartiles beside it as the spread. \
              (The cost table \"What a sample costs\" times the samplers alone, without MIS weights: a different workload.)\n",
