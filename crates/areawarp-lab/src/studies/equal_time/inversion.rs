@@ -124,14 +124,18 @@ pub fn run(
         let cubic = Sampler::ProjectedPolygonCubic.strategy(scene, r).ok()?;
         let f = |d: &areawarp::vector::Vec3<f64>| scene.integrand(r, &Quantity::Irradiance, d);
         let mut pts = Vec::new();
-        let mut out = [vec![0.0; k], vec![0.0; k], vec![0.0; k]];
-        for j in 0..k {
+        let mut out = [
+            Vec::with_capacity(k),
+            Vec::with_capacity(k),
+            Vec::with_capacity(k),
+        ];
+        for _ in 0..k {
             PointSet::Jittered.fill(config.samples, rng, &mut pts);
             let a = monte_carlo(&*newton, f, pts.iter().copied()).value;
             let b = monte_carlo(&*cubic, f, pts.iter().copied()).value;
-            out[0][j] = (a - e) / e;
-            out[1][j] = (b - e) / e;
-            out[2][j] = (b - a) / e;
+            out[0].push((a - e) / e);
+            out[1].push((b - e) / e);
+            out[2].push((b - a) / e);
         }
         Some(out)
     });
