@@ -15,6 +15,7 @@
 //! | [`figures`] | SVG/PNG line plots, scatter plots and heat maps drawn with plotters, and their checker |
 //! | [`jobs`] | [`jobs::run_jobs`]: reproducible parallel estimator jobs on rayon |
 //! | [`progress`] | progress bars (indicatif) for long parallel steps |
+//! | [`timing`] | per-thread CPU time for timings on a shared machine |
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -24,4 +25,5 @@ pub mod jobs;
 pub mod progress;
 pub mod scene;
 pub mod studies;
+pub mod timing;
 pub mod verdict;

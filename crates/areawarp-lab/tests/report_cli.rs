@@ -35,6 +35,18 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         "The bias of the allocation rule",
         "![Figure 1: ",
         "*Figure 1.*",
+        // Issue 11: equal time by CPU time, cubic vs Newton, the glossy
+        // MIS rows, Shao–Badler intervals, area sampling's robust curve.
+        "### Equal time: error against the CPU time spent per receiver",
+        "#### Equal time, no occluders",
+        "#### Equal time, 3 occluders",
+        "| projected polygon (cubic only) |",
+        "#### Cubic-only inversion of the projected polygon: bias in the irradiance",
+        "| cubic − Newton (same points) |",
+        "### MIS on a glossy (Phong) receiver",
+        "| light sampler | RMS(+MIS) / RMS(alone) | 95% interval |",
+        "Each ratio with its 95% interval",
+        "### Area sampling's heavy tail",
     ] {
         assert!(index.contains(section), "index.md lacks {section:?}");
     }
@@ -58,6 +70,12 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         "samples_spherical_triangle_jittered.png",
         "solid_angle_f32_error_uv.png",
         "sample_figures.csv",
+        "equal_time.svg",
+        "equal_time_occluded.svg",
+        "equal_time.csv",
+        "variance_glossy.svg",
+        "variance_glossy_curves.csv",
+        "variance_area_robust.svg",
     ] {
         assert!(dir.join(name).is_file(), "the report did not write {name}");
     }

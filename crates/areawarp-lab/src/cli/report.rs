@@ -286,6 +286,16 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
         })?;
         var.attach(adaptive);
     }
+    // MIS on a glossy (Phong) receiver, beside the diffuse MIS rows.
+    let glossy = step("MIS on a glossy (Phong) receiver", || {
+        let cfg = if quick {
+            variance::GlossyConfig::quick()
+        } else {
+            variance::GlossyConfig::default()
+        };
+        Ok(variance::run_glossy(&var.config, &cfg)?)
+    })?;
+    var.attach(glossy.to_section());
     // The cost side of Ureña et al.'s claims, listed with them.
     var.attach(cost.to_section());
     var.detach("adaptive");
@@ -307,13 +317,34 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
         super::placement::variance_anchor,
     );
     section(&mut ufk, var_md, variance_figs);
+    let robust = var.write_robust_figure(&figs)?;
+    section(
+        &mut ufk,
+        var.robust_markdown(),
+        robust.into_iter().collect(),
+    );
     section(
         &mut ufk,
         format!("## Stratification on the rectangle (Fig. 5)\n\n{sf_rectangle_md}"),
         sf_rectangle_figs,
     );
     section(&mut ufk, pf.ufk_markdown(), paper_figs("ufk2013"));
-    let eq = crate::studies::equal_time::run(&var, &cost);
+    let eq = step(
+        "equal time (CPU-timed estimators) and cubic-only bias",
+        || {
+            use crate::studies::equal_time::EqualTimeConfig;
+            let mut cfg = if quick {
+                EqualTimeConfig::quick()
+            } else {
+                EqualTimeConfig::default()
+            };
+            if large {
+                cfg.rounds = 2 * cfg.rounds + 1;
+            }
+            Ok(crate::studies::equal_time::run(&var, &cfg)?)
+        },
+    )?;
+    eq.write_csv(out)?;
     let f = eq.write_figures(&figs)?;
     section(&mut ufk, eq.to_markdown(), f);
     let mut urena = String::new();
@@ -514,31 +545,44 @@ fn shao_row(
         precision: Precision::F64,
         bounding_box: true,
     };
-    let ratios: Vec<(String, f64, usize)> = sa
+    let ratios: Vec<(String, f64, f64, usize)> = sa
         .scenes
         .iter()
         .filter_map(|s| {
-            let (r, n) = sa.error_ratio(&s.name, &m(Sampling::Stratified), &m(Sampling::Random))?;
-            Some((s.name.clone(), r, n))
+            let (r, se, n) =
+                sa.error_ratio_interval(&s.name, &m(Sampling::Stratified), &m(Sampling::Random))?;
+            Some((s.name.clone(), r, se, n))
         })
         .collect();
-    let all = !ratios.is_empty() && ratios.iter().all(|r| r.1 < 1.0);
+    // "Lowers the error" has no number: reproduced when every scene's whole
+    // 95% interval lies below 1, direction holds when every point does.
+    let hi = |r: f64, se: f64| crate::verdict::interval(r, se).1;
+    let verdict = if ratios.is_empty() {
+        crate::verdict::Verdict::NotMeasured
+    } else if ratios.iter().all(|r| hi(r.1, r.2) < 1.0) {
+        crate::verdict::Verdict::Reproduced
+    } else if ratios.iter().all(|r| r.1 < 1.0) {
+        crate::verdict::Verdict::Qualitative
+    } else {
+        crate::verdict::Verdict::NotReproduced
+    };
     super::summary::SummaryRow {
         paper: "Shao & Badler 1996".to_string(),
         source: "Shao & Badler 1996, §3".to_string(),
         claim: format!(
-            "stratified sampling of the object's (z, φ) box lowers the error of the solid-angle estimate (RMS ratio stratified / random: {}; no interval: ratios of 32-estimate RMS values)",
+            "stratified sampling of the object's (z, φ) box lowers the error of the solid-angle estimate (RMS ratio stratified / random, 95% interval by the delta method over {} estimates each: {})",
+            sa.config.repetitions,
             ratios
                 .iter()
-                .map(|(s, r, n)| format!("{s} {r:.3} at n = {n}"))
+                .map(|(s, r, se, n)| format!(
+                    "{s} {} {} at n = {n}",
+                    crate::verdict::sig3(*r),
+                    crate::verdict::interval_text(*r, *se)
+                ))
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-        verdict: if all {
-            crate::verdict::Verdict::Reproduced
-        } else {
-            crate::verdict::Verdict::NotReproduced
-        },
+        verdict,
         verdict_image: None,
         detail: "Shao & Badler section".to_string(),
     }

@@ -468,6 +468,43 @@ impl Measurement {
         (ratio, ((k - 1) as f64 / k as f64 * ss).sqrt())
     }
 
+    /// A robust reading of a heavy-tailed curve: the median over runs of
+    /// each run's error (every run covers all receivers of the subset: a
+    /// median of means), with a distribution-free interval for that median
+    /// from order statistics. Returns `(median, lo, hi, coverage)`:
+    /// `[lo, hi] = [x₍ⱼ₎, x₍ₖ₊₁₋ⱼ₎]` with the largest `j` whose exact
+    /// binomial coverage is ≥ 95% (`j = 1`, the whole range, with its lower
+    /// coverage when there are too few runs). In the metric of
+    /// [`Measurement::metric`].
+    ///
+    /// The median estimates the *typical* run's error, not the root mean
+    /// square: for a right-skewed error it is lower, and the two differ
+    /// exactly when rare large errors dominate the mean.
+    pub fn rms_median_of_runs(
+        &self,
+        s: Subset,
+        m: usize,
+        p: usize,
+        l: usize,
+    ) -> (f64, f64, f64, f64) {
+        let mut x: Vec<f64> = (0..self.runs)
+            .map(|k| self.per_run[self.run_index(s, m, p, l, k)].value(self.metric))
+            .filter(|v| v.is_finite())
+            .collect();
+        if x.is_empty() {
+            return (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
+        }
+        x.sort_by(f64::total_cmp);
+        let k = x.len();
+        let median = if k % 2 == 1 {
+            x[k / 2]
+        } else {
+            (x[k / 2 - 1] + x[k / 2]) / 2.0
+        };
+        let (j, coverage) = order_statistic_interval(k);
+        (median, x[j - 1], x[k - j], coverage)
+    }
+
     /// The number of receivers at which method `m` failed at least once.
     pub fn skipped_receivers(&self, method: &str) -> usize {
         self.failures.iter().filter(|f| f.method == method).count()
@@ -479,6 +516,26 @@ impl Measurement {
         let a = self.acc(s, m, p, l, None);
         a.rel2 / a.n as f64
     }
+}
+
+/// For `k` samples: the largest `j ≥ 1` with `P(x₍ⱼ₎ ≤ median ≤
+/// x₍ₖ₊₁₋ⱼ₎) = 1 − 2 P(Bin(k, ½) ≤ j − 1) ≥ 0.95`, and that coverage (for
+/// `j = 1` possibly below 0.95).
+pub fn order_statistic_interval(k: usize) -> (usize, f64) {
+    // P(Bin(k, 1/2) <= i), cumulated.
+    let mut cdf = Vec::with_capacity(k + 1);
+    let (mut term, mut acc) = (0.5f64.powi(k as i32), 0.0);
+    for i in 0..=k {
+        acc += term;
+        cdf.push(acc);
+        term *= (k - i) as f64 / (i + 1) as f64;
+    }
+    let coverage = |j: usize| 1.0 - 2.0 * cdf[j - 1];
+    let mut j = 1;
+    while 2 * (j + 1) <= k + 1 && coverage(j + 1) >= 0.95 {
+        j += 1;
+    }
+    (j, coverage(j).max(0.0))
 }
 
 /// The Euclidean distance from `x` to the (closed) polygon.

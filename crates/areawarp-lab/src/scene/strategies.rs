@@ -9,7 +9,8 @@ use super::{Frame, Receiver};
 use areawarp::error::WarpError;
 use areawarp::estimate::{Mixture, Sample, Strategy};
 use areawarp::shapes::{
-    PhongLobe, PlanarTriangle, ProjectedPolygon, SphericalRectangle, SphericalTriangle,
+    MarginalInversion, PhongLobe, PlanarTriangle, ProjectedPolygon, SphericalRectangle,
+    SphericalTriangle,
 };
 use areawarp::vector::Vec3;
 use areawarp::warp::Warp;
@@ -374,7 +375,24 @@ pub fn projected_polygon(
     polygon: &PlanarPolygon,
     receiver: &Receiver,
 ) -> Result<SolidAngleSampling<ProjectedPolygon<f64>>, WarpError> {
-    let w =
-        ProjectedPolygon::from_points(polygon.vertices(), receiver.position(), receiver.normal())?;
+    projected_polygon_with(polygon, receiver, MarginalInversion::default())
+}
+
+/// [`projected_polygon`] with the marginal inverted by `inversion` (e.g.
+/// Arvo's fitted cubic alone, [`MarginalInversion::Cubic`]).
+///
+/// # Errors
+/// As [`projected_polygon`].
+pub fn projected_polygon_with(
+    polygon: &PlanarPolygon,
+    receiver: &Receiver,
+    inversion: MarginalInversion,
+) -> Result<SolidAngleSampling<ProjectedPolygon<f64>>, WarpError> {
+    let w = ProjectedPolygon::from_points_with(
+        polygon.vertices(),
+        receiver.position(),
+        receiver.normal(),
+        inversion,
+    )?;
     Ok(SolidAngleSampling::new(w, polygon, receiver.position()))
 }

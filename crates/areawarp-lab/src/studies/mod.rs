@@ -17,7 +17,7 @@
 //! | [`solid_angle_of_object`] | Shao–Badler §3: the solid angle of an object by stratified sampling of the sphere in cylinder coordinates, restricted to the object's (z, φ) bounding box; error vs samples; the random-axis variant; where the `f32` truncation error of the sphere map concentrates |
 //! | [`adaptive_comparison`] | Ureña 2000 §5: stratified solid-angle and cosine-weighted sampling against adaptive sampling with K = ∞, 0.1, 0.001 at equal sample counts on a patterned triangle light with occluders; attached to the variance study |
 //! | [`light_cost`] (feature `mpfr`) | Ureña et al. 2013's cost claim: ns per sample of area, spherical-rectangle, triangle-pair, projected-polygon and cosine sampling of the standing light, alone and inside the estimator with 0, 3 and many occluders; construction per receiver; ratios to area sampling |
-//! | [`equal_time`] | the variance study's methods at equal time: error against µs per receiver and efficiency 1/(MSE·time), with one cost per map (the light-cost study's estimator workload) |
+//! | [`equal_time`] | the variance study's methods at equal time, without and with occluders: error against CPU µs per receiver of the whole estimator (timed here: thread CPU time, interleaved rounds, minimum over rounds) and efficiency 1/(MSE·time); the bias of cubic-only projected-polygon inversion |
 //! | [`variance`] | Ureña, Fajardo & King 2013, Fig. 4/7: relative RMS error vs spp of area, triangle-pair, spherical-rectangle and projected-polygon sampling of a standing rectangular light, with and without MIS; samples at equal error |
 
 pub mod adaptive_comparison;

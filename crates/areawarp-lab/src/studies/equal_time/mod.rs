@@ -1,80 +1,168 @@
 //! Equal-time comparison of the light samplers of the variance study: the
-//! error of each method against the time it spends per receiver, and its
-//! efficiency `1/(MSE · time)`, with one cost per map for the whole report.
+//! error of each method against the CPU time it spends per receiver, and
+//! its efficiency `1/(MSE · time)`, without and with occluders; and the
+//! bias of cubic-only inversion of the projected polygon ([`inversion`]).
 //!
-//! The cost of a sample is the light-cost study's *estimator* workload
-//! (`light_cost::WORKLOADS[1]`: draw the sample, evaluate the pdf and the
-//! irradiance integrand, no occluders), measured in the same run as every
-//! other timing of the report; an MIS method pays its light sample plus a
-//! cosine sample (the two estimators' costs added — the MIS weights' extra
-//! pdf evaluations are not counted, which flatters MIS slightly). The map
-//! alone (`WORKLOADS[0]`) and the warps-at-a-glance timings measure less
-//! work and are not comparable with this one.
+//! The cost of a method is measured here, on the estimator the variance
+//! study runs ([`timing`]: thread CPU time, methods interleaved in rounds,
+//! minimum over rounds, the spread reported): per light sample the draw,
+//! pdf, integrand and visibility tests and, for MIS, the cosine sample and
+//! the balance weights' pdfs; plus the construction of the strategies once
+//! per receiver. The light-cost table ("What a sample costs") times the
+//! samplers in isolation (the map alone, and one estimator step without
+//! MIS weights); its numbers answer a different question and are not used
+//! here.
 
-use super::light_cost::LightCost;
-use super::variance::VarianceStudy;
-use crate::estimator::{Method, PointSet, Sampler, Subset};
-use crate::figures::{self, Axis, Figure, PALETTE, Plot, Series};
-use crate::verdict::{Z95, interval, sig3};
+pub mod inversion;
+mod output;
+#[cfg(test)]
+mod tests;
+pub mod timing;
+
+use self::inversion::{BiasConfig, InversionBias};
+use self::timing::{MethodCost, time_methods};
+use super::variance::{VarianceStudy, occluded_irradiance};
+use crate::estimator::{Measurement, Method, PointSet, Sampler, Subset};
+use crate::scene::{Receiver, Scene, setup};
+use crate::verdict::interval;
+use areawarp::error::WarpError;
 use areawarp::estimate::Heuristic;
-use std::fmt::Write as _;
-use std::io;
-use std::path::Path;
+
+/// The size of the timing and of the bias test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EqualTimeConfig {
+    /// Light samples per receiver in each timed batch.
+    pub batch: usize,
+    /// Timed rounds (after one warm-up round).
+    pub rounds: usize,
+    /// Seed of the timed points.
+    pub seed: u64,
+    /// The cubic-only bias test; `None` skips it.
+    pub bias: Option<BiasConfig>,
+}
+
+impl EqualTimeConfig {
+    /// The tests' size (milliseconds).
+    pub fn quick() -> Self {
+        EqualTimeConfig {
+            batch: 64,
+            rounds: 5,
+            seed: 0xE0_7135,
+            bias: Some(BiasConfig::quick()),
+        }
+    }
+}
+
+impl Default for EqualTimeConfig {
+    /// The report's size: 256 samples per receiver, 15 rounds.
+    fn default() -> Self {
+        EqualTimeConfig {
+            batch: 256,
+            rounds: 15,
+            bias: Some(BiasConfig::default()),
+            ..Self::quick()
+        }
+    }
+}
 
 /// One method's row.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EqualTimeRow {
     /// The method's name.
     pub method: String,
-    /// ns per sample (estimator workload; MIS: light + cosine).
-    pub ns: f64,
+    /// Its measured cost.
+    pub cost: MethodCost,
     /// The spp of the comparison.
     pub spp: usize,
     /// Relative RMS error at `spp` (per-receiver metric).
     pub rms: f64,
     /// Its jackknife standard error.
     pub rms_se: f64,
-    /// Efficiency `1/(rms² · spp · ns)` relative to the spherical
-    /// rectangle's.
+    /// CPU µs per receiver at `spp` (minima over rounds).
+    pub micros: f64,
+    /// Time per receiver over the baseline's, median of per-round ratios.
+    pub time_ratio: f64,
+    /// Standard error of the log of the time ratio (rounds).
+    pub time_ratio_log_se: f64,
+    /// Efficiency `1/(rms² · time)` relative to the baseline's.
     pub efficiency: f64,
-    /// Its standard error (from the two RMS values' only; timings are
-    /// medians of one run).
+    /// Its standard error: the two RMS values' (jackknife) and the time
+    /// ratio's (rounds), added in quadrature.
     pub efficiency_se: f64,
     /// The error curve against µs per receiver: `(µs, rms, lo, hi)`.
     pub curve: Vec<(f64, f64, f64, f64)>,
 }
 
-/// The comparison.
+/// One comparison (one scene).
 #[derive(Clone, Debug, PartialEq)]
-pub struct EqualTime {
-    /// The point set used (jittered).
+pub struct EqualTimeTable {
+    /// What the scene is (`no occluders`, `3 occluders`).
+    pub scene: String,
+    /// The point set used.
     pub point_set: PointSet,
-    /// The rows, in the variance study's method order.
+    /// Receivers timed.
+    pub receivers: usize,
+    /// The baseline of the ratios.
+    pub baseline: String,
+    /// The rows.
     pub rows: Vec<EqualTimeRow>,
 }
 
-/// The estimator cost (ns per sample) of a method, if measured.
-fn cost(lc: &LightCost, m: &Method) -> Option<f64> {
-    let light = lc.row(m.sampler)?.per_sample.get(1)?.median;
-    match m.mis {
-        None => Some(light),
-        // MIS's second strategy is cosine sampling of the hemisphere.
-        Some(_) => Some(light + lc.row(Sampler::Cosine)?.per_sample.get(1)?.median),
-    }
+/// The study's result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EqualTime {
+    /// Its size.
+    pub config: EqualTimeConfig,
+    /// Without occluders (the variance study's main measurement).
+    pub free: EqualTimeTable,
+    /// With the occluded measurement's occluders, if it ran.
+    pub occluded: Option<EqualTimeTable>,
+    /// The bias of cubic-only inversion, if run.
+    pub bias: Option<InversionBias>,
 }
 
-/// Builds the comparison from the variance study (jittered points, all
-/// receivers, balance-heuristic MIS) and the light-cost timings.
-pub fn run(var: &VarianceStudy, lc: &LightCost) -> EqualTime {
-    let ms = &var.measurement;
+/// The methods compared: balance-heuristic MIS and the samplers alone.
+fn compared(methods: &[Method]) -> Vec<Method> {
+    let mut out: Vec<Method> = methods
+        .iter()
+        .filter(|m| !matches!(m.mis, Some(Heuristic::Power(_) | Heuristic::Maximum)))
+        .copied()
+        .collect();
+    // The baseline (the spherical rectangle alone) first.
+    let base = Method::plain(Sampler::Rectangle);
+    if let Some(i) = out.iter().position(|m| *m == base) {
+        let b = out.remove(i);
+        out.insert(0, b);
+    }
+    out
+}
+
+fn table(
+    scene_name: &str,
+    ms: &Measurement,
+    methods: &[Method],
+    scene: &Scene,
+    receivers: &[Receiver],
+    config: &EqualTimeConfig,
+) -> EqualTimeTable {
+    let methods: Vec<Method> = compared(methods)
+        .into_iter()
+        .filter(|m| ms.method_index(&m.name()).is_some())
+        .collect();
+    let costs = time_methods(
+        scene,
+        receivers,
+        &methods,
+        config.batch,
+        config.rounds,
+        config.seed,
+    );
     let p = ms.point_set_index(PointSet::Jittered).unwrap_or(0);
     let last = ms.spp.len().saturating_sub(1);
-    let mut rows = Vec::new();
-    for m in &var.config.methods {
-        if matches!(m.mis, Some(Heuristic::Power(_) | Heuristic::Maximum)) {
-            continue;
-        }
-        let (Some(i), Some(ns)) = (ms.method_index(&m.name()), cost(lc, m)) else {
+    let spp = ms.spp.get(last).copied().unwrap_or(1);
+    let mut rows: Vec<EqualTimeRow> = Vec::new();
+    for (m, cost) in methods.iter().zip(&costs) {
+        let Some(i) = ms.method_index(&m.name()) else {
             continue;
         };
         let rms = ms.rms(Subset::All, i, p, last);
@@ -86,116 +174,126 @@ pub fn run(var: &VarianceStudy, lc: &LightCost) -> EqualTime {
                     ms.rms_std_error(Subset::All, i, p, l),
                 );
                 let (lo, hi) = interval(e, se);
-                (ms.spp[l] as f64 * ns * 1e-3, e, lo, hi)
+                (cost.micros_per_receiver(ms.spp[l]), e, lo, hi)
             })
             .collect();
+        let (time_ratio, time_ratio_log_se) = cost.ratio_to(&costs[0], spp);
         rows.push(EqualTimeRow {
             method: m.name(),
-            ns,
-            spp: ms.spp[last],
+            cost: cost.clone(),
+            spp,
             rms,
             rms_se,
-            efficiency: 1.0 / (rms * rms * ms.spp[last] as f64 * ns),
-            efficiency_se: 0.0,
+            micros: cost.micros_per_receiver(spp),
+            time_ratio,
+            time_ratio_log_se,
+            efficiency: f64::NAN,
+            efficiency_se: f64::NAN,
             curve,
         });
     }
-    let base = rows
-        .iter()
-        .find(|r| r.method == Method::plain(Sampler::Rectangle).name())
-        .map(|r| (r.efficiency, r.rms, r.rms_se));
-    if let Some((e0, r0, s0)) = base {
+    if let Some(base) = rows.first().cloned() {
         for r in &mut rows {
-            r.efficiency /= e0;
             if !(r.rms > 1e-12) {
                 // A zero-variance estimator: no finite efficiency.
                 r.efficiency = f64::INFINITY;
-                r.efficiency_se = f64::NAN;
                 continue;
             }
-            // Relative error of 1/rms² ≈ 2·se/rms, both rows' added in
-            // quadrature (the rows are correlated: a conservative bound).
-            let rel = 2.0 * ((r.rms_se / r.rms).powi(2) + (s0 / r0).powi(2)).sqrt();
-            r.efficiency_se = if r.method == Method::plain(Sampler::Rectangle).name() {
-                0.0
-            } else {
-                r.efficiency * rel
-            };
+            r.efficiency = (base.rms * base.rms * base.micros) / (r.rms * r.rms * r.micros);
+            if r.method == base.method {
+                r.efficiency_se = 0.0;
+                continue;
+            }
+            // Relative error of 1/rms² ≈ 2·se/rms for both rows (added in
+            // quadrature although common random numbers correlate them: a
+            // conservative bound), and the time ratio's spread over rounds.
+            let rel = (4.0 * (r.rms_se / r.rms).powi(2)
+                + 4.0 * (base.rms_se / base.rms).powi(2)
+                + r.time_ratio_log_se.powi(2))
+            .sqrt();
+            r.efficiency_se = r.efficiency * rel;
         }
     }
-    EqualTime {
+    EqualTimeTable {
+        scene: scene_name.to_string(),
         point_set: ms.point_sets.get(p).copied().unwrap_or(PointSet::Jittered),
+        receivers: receivers.len(),
+        baseline: methods.first().map(|m| m.name()).unwrap_or_default(),
         rows,
     }
 }
 
-impl EqualTime {
-    /// The table, its column definitions and the figure's link.
-    pub fn to_markdown(&self) -> String {
-        let mut s = String::new();
-        let spp = self.rows.first().map_or(0, |r| r.spp);
-        let _ = writeln!(
-            s,
-            "### Equal time: error against the time spent per receiver\n\n\
-             One cost per map for the whole report: ns per sample of the *estimator* workload of the cost table (\"What a sample costs\") \
-             (draw, pdf, integrand; no occluders), measured in this run; MIS pays a light and a cosine sample. Columns: \
-             *ns/sample* — that cost; *RMS at {spp} spp* — per-receiver relative RMS error, {} points, all receivers, \
-             ± 95% interval; *µs/receiver* — spp × ns/sample; *efficiency* — 1/(RMS² × time) relative to the spherical \
-             rectangle, ± 95% from the RMS values only (the timings are medians of one run; their quartiles are in the cost \
-             table). Higher is better: efficiency 2 means the same error in half the time.\n",
-            self.point_set.name()
-        );
-        let _ = writeln!(
-            s,
-            "| method | ns/sample | RMS at {spp} spp | µs/receiver | efficiency (rectangle = 1) |\n|---|---:|---:|---:|---:|"
-        );
-        for r in &self.rows {
-            let efficiency = if r.efficiency.is_infinite() {
-                "∞ (zero variance: exact for this light)".to_string()
-            } else {
-                format!("{} ± {}", sig3(r.efficiency), sig3(Z95 * r.efficiency_se))
-            };
-            let _ = writeln!(
-                s,
-                "| {} | {:.1} | {:.3e} ± {:.0}% | {:.1} | {efficiency} |",
-                r.method,
-                r.ns,
-                r.rms,
-                100.0 * Z95 * r.rms_se / r.rms,
-                r.spp as f64 * r.ns * 1e-3,
-            );
+/// Builds the comparison from the variance study's measurements (jittered
+/// points, all receivers), timing every method on the same scenes and
+/// receivers, and runs the cubic-only bias test on the occluded scene.
+///
+/// # Errors
+/// As [`setup::standing_rectangle`] and
+/// [`OccluderRow::polygons`](super::variance::OccluderRow::polygons).
+pub fn run(var: &VarianceStudy, config: &EqualTimeConfig) -> Result<EqualTime, WarpError> {
+    let c = &var.config;
+    let set = setup::standing_rectangle(
+        c.width, c.height, c.radiance, c.near, c.far, c.rows, c.lateral,
+    )?;
+    let free = table(
+        "no occluders",
+        &var.measurement,
+        &c.methods,
+        &set.scene,
+        &set.receivers,
+        config,
+    );
+    let (mut occluded, mut bias) = (None, None);
+    if let Some(o) = &var.occluded {
+        let mut scene = set.scene.clone();
+        for q in o.occluders.polygons()? {
+            scene = scene.with_occluder(q);
         }
-        let _ = writeln!(s, "\n![equal time](equal_time.svg)\n");
-        s
-    }
-
-    /// Writes `equal_time.svg`: RMS error against µs per receiver, one
-    /// curve per method with its 95% band.
-    ///
-    /// # Errors
-    /// I/O errors.
-    pub fn write_figures(&self, dir: &Path) -> io::Result<Vec<Figure>> {
-        let mut plot = Plot::new(
-            "equal time: relative RMS error against time per receiver (jittered, all receivers)",
-            Axis::log("µs per receiver (spp × ns per sample, estimator workload)"),
-            Axis::log("per-receiver relative RMS error (band: 95% interval)"),
-        )
-        .size(900, 580);
-        for (i, r) in self.rows.iter().enumerate() {
-            let pts: Vec<(f64, f64)> = r.curve.iter().map(|c| (c.0, c.1)).collect();
-            if pts.iter().all(|p| !(p.1 > 1e-12)) {
-                continue;
+        // The occluded measurement's receivers: those with an exact
+        // reference, in the same order.
+        let receivers: Vec<Receiver> = set
+            .receivers
+            .iter()
+            .filter(|r| {
+                o.measurement
+                    .receivers
+                    .iter()
+                    .any(|i| i.position == *r.position())
+            })
+            .cloned()
+            .collect();
+        let name = format!("{} occluders", o.occluders.centers.len());
+        occluded = Some(table(
+            &name,
+            &o.measurement,
+            &c.occluded_methods,
+            &scene,
+            &receivers,
+            config,
+        ));
+        if let Some(bc) = &config.bias {
+            // The receivers in partial shadow, with their exact values.
+            let mut rx = Vec::new();
+            let mut refs = Vec::new();
+            for r in &receivers {
+                let free_e = crate::scene::lambert::irradiance(set.scene.emitter(), r);
+                if let Some(e) = occluded_irradiance(&scene, r)
+                    && e > 0.0
+                    && e < free_e * (1.0 - 1e-9)
+                {
+                    rx.push(r.clone());
+                    refs.push(e);
+                }
             }
-            let band = r.curve.iter().map(|c| (c.0, c.2, c.3)).collect();
-            let mut series = Series::new(&r.method, pts)
-                .with_color(PALETTE[i % PALETTE.len()])
-                .with_band(band);
-            series.dashed = r.method.contains("MIS");
-            plot = plot.series(series);
+            if !rx.is_empty() {
+                bias = Some(inversion::run(&scene, &rx, &refs, bc)?);
+            }
         }
-        Ok(vec![figures::write_line_plot_svg(
-            &dir.join("equal_time.svg"),
-            &plot,
-        )?])
     }
+    Ok(EqualTime {
+        config: config.clone(),
+        free,
+        occluded,
+        bias,
+    })
 }

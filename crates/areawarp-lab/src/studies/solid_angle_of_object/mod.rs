@@ -395,6 +395,9 @@ pub struct ErrorRow {
     pub mean: f64,
     /// RMS of `(Ω̂ − Ω)/Ω` over the estimates.
     pub rms_relative_error: f64,
+    /// Standard error of `rms_relative_error` (delta method: the standard
+    /// deviation of the squared relative errors / √R, over 2 × RMS).
+    pub rms_std_error: f64,
     /// `(mean − Ω)/Ω`.
     pub relative_bias: f64,
     /// Standard error of `relative_bias` (sample standard deviation / √R / Ω).

@@ -76,6 +76,25 @@ impl SolidAngleStudy {
         })
     }
 
+    /// [`SolidAngleStudy::error_ratio`] with its standard error by the
+    /// delta method (the methods' estimates are independent:
+    /// `se(r)/r = √((se_a/rms_a)² + (se_b/rms_b)²)`): `(ratio, se, n)`.
+    pub fn error_ratio_interval(
+        &self,
+        scene: &str,
+        a: &Method,
+        b: &Method,
+    ) -> Option<(f64, f64, usize)> {
+        self.config.sample_counts.iter().rev().find_map(|&n| {
+            let (ra, rb) = (self.row(scene, a, n)?, self.row(scene, b, n)?);
+            let r = ra.rms_relative_error / rb.rms_relative_error;
+            let rel = ((ra.rms_std_error / ra.rms_relative_error).powi(2)
+                + (rb.rms_std_error / rb.rms_relative_error).powi(2))
+            .sqrt();
+            Some((r, r * rel, n))
+        })
+    }
+
     /// The RMS relative error of `method` on `scene` at `n`, if measured.
     pub fn rms_error(&self, scene: &str, method: &Method, n: usize) -> Option<f64> {
         self.row(scene, method, n).map(|r| r.rms_relative_error)
@@ -118,8 +137,10 @@ impl SolidAngleStudy {
         for sc in &self.scenes {
             let _ = writeln!(
                 s,
-                "\n### RMS relative error — {}\n\n![error vs n](solid_angle_error_vs_n_{}.svg)\n",
-                sc.name, sc.name
+                "\n### RMS relative error — {}\n\n![error vs n](solid_angle_error_vs_n_{}.svg)\n\n\
+                 Each cell: the RMS relative error over {} estimates ± the half-width of its 95% interval relative to it \
+                 (delta method on the mean of the squared errors).\n",
+                sc.name, sc.name, c.repetitions
             );
             let _ = write!(s, "| n |");
             for m in &c.methods {
@@ -133,8 +154,21 @@ impl SolidAngleStudy {
             for &n in &c.sample_counts {
                 let _ = write!(s, "| {n} |");
                 for m in &c.methods {
-                    let v = self.rms_error(&sc.name, m, n).unwrap_or(f64::NAN);
-                    let _ = write!(s, " {} |", fmt_e(v));
+                    match self.row(&sc.name, m, n) {
+                        Some(r) if r.rms_relative_error > 0.0 => {
+                            let _ = write!(
+                                s,
+                                " {} ±{:.0}% |",
+                                fmt_e(r.rms_relative_error),
+                                100.0 * crate::verdict::Z95 * r.rms_std_error
+                                    / r.rms_relative_error
+                            );
+                        }
+                        Some(r) => {
+                            let _ = write!(s, " {} |", fmt_e(r.rms_relative_error));
+                        }
+                        None => s.push_str(" – |"),
+                    }
                 }
                 s.push('\n');
             }
@@ -167,16 +201,27 @@ impl SolidAngleStudy {
         // Headlines.
         let _ = writeln!(
             s,
-            "\n### Findings (RMS error ratios at the largest n measured for both)\n"
+            "\n### Findings (RMS error ratios at the largest n measured for both)\n\n\
+             Each ratio with its 95% interval: the delta method on the two RMS values, each with the standard error of a mean \
+             of {} squared errors (the methods' estimates are independent).\n",
+            self.config.repetitions
         );
         let std = Method::standard();
         let (rand_box, strat_box, strat_sphere, rand_axis, strat_axes, f32_fixed, f32_axes) =
             (std[0], std[1], std[2], std[3], std[4], std[5], std[6]);
-        let ratio = |scene: &str, a: &Method, b: &Method| match self.error_ratio(scene, a, b) {
-            Some((r, n)) if r < 0.01 => format!("{} (n = {n})", fmt_e(r)),
-            Some((r, n)) => format!("{r:.3} (n = {n})"),
-            None => "–".to_string(),
-        };
+        let ratio =
+            |scene: &str, a: &Method, b: &Method| match self.error_ratio_interval(scene, a, b) {
+                Some((r, se, n)) => {
+                    let (lo, hi) = crate::verdict::interval(r, se);
+                    format!(
+                        "{} [95%: {}, {}] (n = {n})",
+                        crate::verdict::sig3(r),
+                        crate::verdict::sig3(lo.max(0.0)),
+                        crate::verdict::sig3(hi)
+                    )
+                }
+                None => "–".to_string(),
+            };
         for sc in &self.scenes {
             let _ = writeln!(
                 s,
@@ -313,19 +358,20 @@ impl SolidAngleStudy {
         )?);
         out.push(csv_write(
             &dir.join("solid_angle_errors.csv"),
-            "scene,method,n,repetitions,mean,rms_relative_error,relative_bias,bias_std_error,box_fraction,random_prediction",
+            "scene,method,n,repetitions,mean,rms_relative_error,rms_std_error,relative_bias,bias_std_error,box_fraction,random_prediction",
             &self
                 .rows
                 .iter()
                 .map(|r| {
                     format!(
-                        "{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
+                        "{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
                         r.scene,
                         r.method,
                         r.n,
                         r.repetitions,
                         r.mean,
                         r.rms_relative_error,
+                        r.rms_std_error,
                         r.relative_bias,
                         r.bias_std_error,
                         r.box_fraction,

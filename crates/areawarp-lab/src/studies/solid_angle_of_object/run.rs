@@ -450,6 +450,17 @@ pub fn run(config: &SolidAngleConfig) -> Result<SolidAngleStudy, WarpError> {
                 let var =
                     chunk.iter().map(|r| (r.0 - mean).powi(2)).sum::<f64>() / (reps - 1) as f64;
                 let frac = chunk.iter().map(|r| r.1).sum::<f64>() / reps as f64;
+                // se of the mean squared error, then of its square root.
+                let sq_var = chunk
+                    .iter()
+                    .map(|r| ((r.0 - omega).powi(2) - mse).powi(2))
+                    .sum::<f64>()
+                    / (reps - 1) as f64;
+                let rms_std_error = if mse > 0.0 {
+                    (sq_var / reps as f64).sqrt() / (2.0 * mse.sqrt()) / omega
+                } else {
+                    0.0
+                };
                 let area = 4.0 * std::f64::consts::PI * frac;
                 let p = (omega / area).min(1.0);
                 let row = ErrorRow {
@@ -459,6 +470,7 @@ pub fn run(config: &SolidAngleConfig) -> Result<SolidAngleStudy, WarpError> {
                     repetitions: reps,
                     mean,
                     rms_relative_error: mse.sqrt() / omega,
+                    rms_std_error,
                     relative_bias: (mean - omega) / omega,
                     bias_std_error: (var / reps as f64).sqrt() / omega,
                     box_fraction: frac,

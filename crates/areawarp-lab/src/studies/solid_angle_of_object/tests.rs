@@ -519,3 +519,32 @@ fn default_size_run() {
     study.write_figures(&dir).unwrap();
     study.write_csv(&dir).unwrap();
 }
+
+#[test]
+fn error_ratios_carry_delta_method_intervals() {
+    let study = run(&tiny_config()).expect("runs");
+    let std = Method::standard();
+    let (rand_box, strat_box) = (std[0], std[1]);
+    for sc in &study.scenes {
+        let (r, se, n) = study
+            .error_ratio_interval(&sc.name, &strat_box, &rand_box)
+            .expect("both measured");
+        let (plain, n2) = study.error_ratio(&sc.name, &strat_box, &rand_box).unwrap();
+        assert_eq!((r, n), (plain, n2));
+        assert!(se > 0.0 && se.is_finite(), "{}: se {se}", sc.name);
+        // The delta method: se(r)/r from the two rows' relative errors.
+        let (a, b) = (
+            study.row(&sc.name, &strat_box, n).unwrap(),
+            study.row(&sc.name, &rand_box, n).unwrap(),
+        );
+        let rel = ((a.rms_std_error / a.rms_relative_error).powi(2)
+            + (b.rms_std_error / b.rms_relative_error).powi(2))
+        .sqrt();
+        assert!((se / r - rel).abs() <= 1e-12 * rel);
+        // The standard error of an RMS is below the RMS itself for 4
+        // estimates only if the squared errors are not all in one.
+        assert!(a.rms_std_error >= 0.0 && b.rms_std_error > 0.0);
+    }
+    let md = study.to_markdown();
+    assert!(md.contains("[95%: "), "findings carry intervals");
+}

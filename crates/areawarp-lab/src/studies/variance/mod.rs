@@ -113,9 +113,12 @@ use std::io;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 mod claims;
+mod glossy;
 mod occluded;
 mod output;
+mod robust;
 mod tables;
+pub use self::glossy::*;
 pub use self::occluded::*;
 pub use crate::estimator::*;
 pub use crate::verdict::{Claim, Verdict};
@@ -196,6 +199,7 @@ impl Default for VarianceConfig {
                 Method::mis(Sampler::TrianglePair, Heuristic::Balance),
                 Method::plain(Sampler::Area),
                 Method::plain(Sampler::ProjectedPolygon),
+                Method::plain(Sampler::ProjectedPolygonCubic),
                 Method::plain(Sampler::BilinearRectangle),
             ],
         }

@@ -141,6 +141,7 @@ impl VarianceStudy {
                         Sampler::TrianglePair => 1,
                         Sampler::Rectangle => 2,
                         Sampler::ProjectedPolygon => 3,
+                        Sampler::ProjectedPolygonCubic => 8,
                         Sampler::Cosine => 4,
                         Sampler::BilinearRectangle => 9,
                     };
@@ -273,6 +274,8 @@ impl VarianceStudy {
                     Some(Sampler::TrianglePair) => 1,
                     Some(Sampler::Rectangle) => 2,
                     Some(Sampler::ProjectedPolygon) => 3,
+                    Some(Sampler::ProjectedPolygonCubic) => 8,
+                    Some(Sampler::BilinearRectangle) => 9,
                     _ => 4,
                 };
                 (Some(PALETTE[i]), method.is_some_and(|x| x.mis.is_some()))

@@ -443,3 +443,66 @@ fn default_study_report() {
     study.write_figures(&dir).unwrap();
     println!("written to {}", dir.display());
 }
+
+#[test]
+fn order_statistic_intervals_have_their_binomial_coverage() {
+    // 16 runs: [x(4), x(13)] covers the median with 1 − 2·P(Bin(16, ½) ≤ 3).
+    let (j, c) = order_statistic_interval(16);
+    assert_eq!(j, 4);
+    assert!((c - (1.0 - 2.0 * 697.0 / 65536.0)).abs() < 1e-12, "{c}");
+    // 4 runs: only the whole range, 1 − 2/16.
+    assert_eq!(order_statistic_interval(4), (1, 0.875));
+    // Coverage at least 95% whenever it can be.
+    for k in 6..64 {
+        let (j, c) = order_statistic_interval(k);
+        assert!(c >= 0.95 && 2 * j <= k + 1, "{k}: {j} {c}");
+    }
+}
+
+#[test]
+fn median_of_runs_lies_in_its_interval_and_the_section_shows_it() {
+    let study = quick_study();
+    let ms = &study.measurement;
+    let i = ms
+        .method_index(&Method::plain(Sampler::Area).name())
+        .unwrap();
+    for l in 0..ms.spp.len() {
+        let (m, lo, hi, c) = ms.rms_median_of_runs(Subset::All, i, 0, l);
+        assert!(lo <= m && m <= hi && m > 0.0, "{lo} {m} {hi}");
+        assert!(c > 0.5 && c <= 1.0);
+    }
+    let md = study.robust_markdown();
+    assert!(md.contains("median of runs") && md.contains("variance_area_robust.svg"));
+    let dir = temp_dir("robust");
+    std::fs::create_dir_all(&dir).unwrap();
+    let fig = study.write_robust_figure(&dir).unwrap().expect("figure");
+    verify_figure(&fig.path).expect("valid figure");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn glossy_receiver_mis_lowers_area_samplings_error() {
+    let mut c = VarianceConfig::quick();
+    c.max_log2_spp = 6;
+    let g = run_glossy(&c, &GlossyConfig::quick()).expect("glossy runs");
+    let gc = GlossyConfig::quick();
+    // Every sampler alone and with MIS, and BRDF sampling alone.
+    assert_eq!(g.methods.len(), 2 * gc.samplers.len() + 1);
+    assert!(g.reference_rel_se > 0.0 && g.reference_rel_se < 0.05);
+    let ratios = g.mis_ratios();
+    assert_eq!(ratios.len(), gc.samplers.len());
+    for (s, r, se) in &ratios {
+        assert!(r.is_finite() && *r > 0.0 && se.is_finite(), "{s:?}");
+    }
+    // Near the light area sampling's f/p explodes; the BRDF sample, whose
+    // density does not, caps it under the balance heuristic.
+    let (_, area, area_se) = ratios
+        .iter()
+        .find(|x| x.0 == Sampler::Area)
+        .copied()
+        .unwrap();
+    assert!(area + 1.96 * area_se < 1.0, "{area} ± {area_se}");
+    let section = g.to_section();
+    assert_eq!(section.slug, "glossy");
+    assert!(section.markdown.contains("RMS(+MIS) / RMS(alone)"));
+}
