@@ -576,6 +576,7 @@ impl<T: Real> SphericalRectangle<T> {
 /// Validates the rectangle and builds its frame in [`Real::Wide`] (every
 /// decision, the frame and the local coordinates in the wide type), rounded
 /// to `T`.
+#[inline(always)]
 fn wide_geometry<T: Real>(
     s: &Vec3<T>,
     ex: &Vec3<T>,
@@ -606,6 +607,7 @@ mod range {
 /// smallest normal number, `4/max`), so that the map's products of small
 /// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
 /// non-zero at the nearest and farthest points of the rectangle.
+#[inline(always)]
 fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpError> {
     let tiny = T::from_i64(4) / &T::max_value();
     let floor = tiny / &T::unit_roundoff();

@@ -396,6 +396,7 @@ impl<T: Real> SphericalTriangle<T> {
 
     /// The directions `p_i − observer` rounded to `T`, and the core of the
     /// triangle of the wide directions.
+    #[inline(always)]
     fn from_points_core(
         p0: &Vec3<T>,
         p1: &Vec3<T>,
@@ -472,6 +473,7 @@ impl<T: Real> SphericalTriangle<T> {
         Self::sample_core(&core, u, v)
     }
 
+    #[inline(always)]
     fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
         let (_, inv_omega) = build::omega_in::<T>(core)?;
         if !positive(&T::narrow(&core.d)) {

@@ -67,6 +67,7 @@ pub(super) struct WideFrame<W> {
 /// `√(Σ xᵢ²)` by one square root when the sum of squares is neither tiny
 /// nor huge, else by scaling with the largest magnitude first (no spurious
 /// overflow or underflow). Cheaper than two `hypot` calls.
+#[inline(always)]
 pub(super) fn length<T: Real>(v: &[T]) -> T {
     let sum = v.iter().fold(T::zero(), |acc, x| acc + &x.square());
     let tiny = T::unit_roundoff().powi(4);
@@ -84,6 +85,7 @@ pub(super) fn length<T: Real>(v: &[T]) -> T {
 }
 
 /// `|v|` by [`length`].
+#[inline(always)]
 pub(super) fn norm<T: Real>(v: &Vec3<T>) -> T {
     length(&[v.x.clone(), v.y.clone(), v.z.clone()])
 }
@@ -99,6 +101,7 @@ fn degenerate(what: &'static str) -> WarpError {
 impl<T: Real> Geometry<T> {
     /// Validates the input and builds the frame; `bits` is the precision the
     /// data were given in (it sets the perpendicularity tolerance).
+    #[inline(always)]
     pub fn new(
         s: Vec3<T>,
         ex: Vec3<T>,
@@ -208,6 +211,7 @@ impl<T: Real> Geometry<T> {
     }
 
     /// The geometry rounded to `T` (`self` computed in `T::Wide`).
+    #[inline(always)]
     pub fn narrow<N: Real<Wide = T>>(&self) -> Geometry<N> {
         Geometry {
             s: narrow3(&self.s),

@@ -134,6 +134,7 @@ struct Lengths<'a, T> {
     sigma: &'a T,
 }
 
+#[inline(always)]
 fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
     let x2 = x.square();
     let r0 = (x2.clone() + k.l0sq).sqrt();
@@ -168,6 +169,7 @@ impl<T: Real> Robust<T> {
     /// The constants of the rectangle of `g`; with `only_anchor = Some(i)`
     /// only the anchor `i` (0: `x₀`, for `u ≤ 1/2`; 1: `x₁`) is computed
     /// (it stands in both places): what one sample needs.
+    #[inline(always)]
     pub fn new(g: &Geometry<T>, only_anchor: Option<usize>) -> Self {
         let one = T::one();
         let two = T::from_i64(2);
@@ -308,6 +310,7 @@ impl<T: Real> Robust<T> {
     }
 
     /// `ω(x_b) − ω(x_a)` for `x_a ≤ x_b`, `len = x_b − x_a` (given exactly).
+    #[inline(always)]
     fn omega_diff(&self, xa: &T, ca: &Column<T>, xb: &T, cb: &Column<T>, len: &T) -> T {
         if *len == T::zero() {
             return T::zero();
@@ -324,6 +327,7 @@ impl<T: Real> Robust<T> {
     }
 
     /// `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`.
+    #[inline(always)]
     fn solid_angle_between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
         let y = self.sdcd.clone() * dw;
         let x = self.cd2.clone() + &(self.sd2.clone() * &ca.w * &cb.w);
@@ -595,6 +599,7 @@ fn row_diff<T: Real>(ya: &T, ra: &T, yb: &T, rb: &T, len: &T, d2: &T) -> T {
     }
 }
 
+#[inline(always)]
 fn anchor<T: Real>(
     col: &Column<T>,
     x: &T,

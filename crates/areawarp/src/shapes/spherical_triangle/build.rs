@@ -27,6 +27,7 @@ pub(super) fn norm2<T: Real>(v: &Vec3<T>) -> T {
 /// `(y + x) − (|y + x|²/2)·x` otherwise (identities for unit vectors, since
 /// `1 − x·y = |y − x|²/2` and `1 + x·y = |y + x|²/2`): the differences are
 /// exact or nearly so, and the result has full relative accuracy.
+#[inline(always)]
 pub(super) fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
     let two = T::from_i64(2);
     let t = if x.dot(y) >= T::zero() {
@@ -107,6 +108,7 @@ pub(super) struct Core<W> {
 impl<W: Real> Core<W> {
     /// Validates the (finite) vertex directions `a`, `b`, `c` and computes
     /// the shared constants.
+    #[inline(always)]
     pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
         let a = unit_vector(a).ok_or(reject::ZERO_VERTEX)?;
         let b = unit_vector(b).ok_or(reject::ZERO_VERTEX)?;
@@ -201,6 +203,7 @@ impl<W: Real> Core<W> {
     }
 
     /// The anchor of the map at A (`from_a = true`) or C.
+    #[inline(always)]
     pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
         if from_a {
             Anchor::new(&self.a, &self.c_perp, &self.b, &self.d, &self.sign)
@@ -253,6 +256,7 @@ impl<W: Real> Anchor<W> {
     /// tangent there towards the other end; `sign` is the sign of
     /// det(A, B, C) as ±1 for V = A (its opposite for V = C), `d` the
     /// common |det|/sin b.
+    #[inline(always)]
     fn new(
         vertex: &Vec3<W>,
         along: &Vec3<W>,
@@ -286,6 +290,7 @@ impl<W: Real> Anchor<W> {
     }
 
     /// The anchor rounded to `T`; `None` if a constant leaves `T`'s range.
+    #[inline(always)]
     pub fn narrow<T: Real<Wide = W>>(&self) -> Option<Anchor<T>> {
         let out = Anchor {
             vertex: narrow3::<T>(&self.vertex),
@@ -309,6 +314,7 @@ impl<W: Real> Anchor<W> {
 
 /// The solid angle Ω and density 1/Ω rounded to `T`, or the reason `T`
 /// cannot hold them.
+#[inline(always)]
 pub(super) fn omega_in<T: Real>(core: &Core<T::Wide>) -> Result<(T, T), WarpError> {
     let omega = T::narrow(&core.omega);
     let inv_omega = T::narrow(&(<T::Wide as Real>::one() / &core.omega));
@@ -320,6 +326,7 @@ pub(super) fn omega_in<T: Real>(core: &Core<T::Wide>) -> Result<(T, T), WarpErro
 
 /// The validated core of the triangle with the (finite) vertex directions
 /// `a`, `b`, `c` given in `T`.
+#[inline(always)]
 pub(super) fn core_of<T: Real>(
     a: &Vec3<T>,
     b: &Vec3<T>,
