@@ -1,0 +1,169 @@
+//! The one-shot light paths against the shapes they stand for, over the
+//! random and near-degenerate shapes of the light fuzz (issue 10, item 4):
+//! `SphericalTriangle::sample_once{,_from_points}` against
+//! `new`/`from_points` + `map_with_pdf`, `SphericalRectangle::sample_once`
+//! against `new` + `sample_light`, and the one-shot solid angles against the
+//! shapes' `solid_angle`, in `f32` and `f64`, at the fuzz's values of `u`
+//! and `v`.
+//!
+//! The one-shot paths evaluate the same formulas as the shapes, so they must
+//! agree bit for bit, and accept and reject exactly the same inputs (with
+//! the same error).
+
+use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::warp::LightWarp;
+use areawarp::{Real, Vec3, Warp};
+use proptest::test_runner::Config;
+use std::cell::RefCell;
+
+#[path = "support/light_cases.rs"]
+mod light_cases;
+use light_cases::*;
+
+/// Shapes tried, accepted, and one-shot samples compared.
+#[derive(Default, Debug)]
+struct Counts {
+    tried: usize,
+    accepted: usize,
+    samples: usize,
+}
+
+fn same<T: Real>(a: &T, b: &T) -> bool {
+    a == b || (a.is_nan() && b.is_nan())
+}
+
+fn same3<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> bool {
+    same(&a.x, &b.x) && same(&a.y, &b.y) && same(&a.z, &b.z)
+}
+
+fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
+    n.tried += 1;
+    let [a, b, c] = [v3::<T>(&case.v[0]), v3(&case.v[1]), v3(&case.v[2])];
+    let o = case.observer.map(|o| v3::<T>(&o));
+    let built = match &o {
+        None => SphericalTriangle::new(a.clone(), b.clone(), c.clone()),
+        Some(o) => SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), o.clone()),
+    };
+    let omega = match &o {
+        None => SphericalTriangle::solid_angle_of(&a, &b, &c),
+        Some(o) => SphericalTriangle::solid_angle_of(&a.sub(o), &b.sub(o), &c.sub(o)),
+    };
+    if let Ok(t) = &built {
+        n.accepted += 1;
+        // The one-shot solid angle of points is that of their differences
+        // rounded to T, the shape's of the exact (wide) differences: equal
+        // for directions, and for f64 points.
+        if o.is_none() {
+            assert_eq!(omega, Ok(t.solid_angle()), "{case:?}");
+        }
+    } else if o.is_none() {
+        // The one-shot solid angle does not check the map's constants.
+        assert!(
+            omega.is_err() || matches!(built, Err(areawarp::WarpError::Unrepresentable { .. })),
+            "{case:?}: {omega:?} {built:?}"
+        );
+    }
+    for u in &unit_values::<T>() {
+        for v in &unit_values::<T>() {
+            let once = match &o {
+                None => SphericalTriangle::sample_once(&a, &b, &c, u, v),
+                Some(o) => SphericalTriangle::sample_once_from_points(&a, &b, &c, o, u, v),
+            };
+            match (&built, once) {
+                (Ok(t), Ok((p, pdf))) => {
+                    let (q, qdf) = t.map_with_pdf(u, v);
+                    assert!(
+                        same3(&p, &q) && same(&pdf, &qdf),
+                        "{case:?} at ({u}, {v}): one-shot {p:?} {pdf}, shape {q:?} {qdf}"
+                    );
+                    n.samples += 1;
+                }
+                (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
+                (built, once) => panic!(
+                    "{case:?} at ({u}, {v}): shape {:?}, one-shot {:?}",
+                    built.as_ref().err(),
+                    once.err()
+                ),
+            }
+        }
+    }
+}
+
+fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
+    n.tried += 1;
+    let [s, ex, ey, o] = [&case.s, &case.ex, &case.ey, &case.o].map(|x| v3::<T>(x));
+    let built = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone());
+    let omega = SphericalRectangle::solid_angle_of(&s, &ex, &ey, &o);
+    match &built {
+        Ok(r) => {
+            n.accepted += 1;
+            assert_eq!(omega, Ok(r.solid_angle()), "{case:?}");
+        }
+        Err(e) => assert_eq!(omega.as_ref().err(), Some(e), "{case:?}"),
+    }
+    for u in &unit_values::<T>() {
+        for v in &unit_values::<T>() {
+            let once = SphericalRectangle::sample_once(&s, &ex, &ey, &o, u, v);
+            match (&built, once) {
+                (Ok(r), Ok(a)) => {
+                    let b = r.sample_light([u.clone(), v.clone()]);
+                    assert!(
+                        same3(&a.direction, &b.direction)
+                            && same3(&a.point, &b.point)
+                            && same(&a.distance, &b.distance)
+                            && same(&a.pdf, &b.pdf)
+                            && same(&a.pdf_area, &b.pdf_area),
+                        "{case:?} at ({u}, {v}): one-shot {a:?}, shape {b:?}"
+                    );
+                    n.samples += 1;
+                }
+                (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
+                (built, once) => panic!(
+                    "{case:?} at ({u}, {v}): shape {:?}, one-shot {:?}",
+                    built.as_ref().err(),
+                    once.err()
+                ),
+            }
+        }
+    }
+}
+
+fn config(cases: u32) -> Config {
+    Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    }
+}
+
+#[test]
+fn one_shot_triangles_agree_with_the_shape() {
+    let counts = RefCell::new([Counts::default(), Counts::default()]);
+    runner(config(3000))
+        .run(&triangle_case(), |case| {
+            let mut n = counts.borrow_mut();
+            triangle::<f32>(&case, &mut n[0]);
+            triangle::<f64>(&case, &mut n[1]);
+            Ok(())
+        })
+        .unwrap();
+    let n = counts.into_inner();
+    println!("triangles f32: {:?}\ntriangles f64: {:?}", n[0], n[1]);
+    assert!(n.iter().all(|c| c.accepted > 1000 && c.samples > 0));
+}
+
+#[test]
+fn one_shot_rectangles_agree_with_the_shape() {
+    let counts = RefCell::new([Counts::default(), Counts::default()]);
+    runner(config(3000))
+        .run(&rectangle_case(), |case| {
+            let mut n = counts.borrow_mut();
+            rectangle::<f32>(&case, &mut n[0]);
+            rectangle::<f64>(&case, &mut n[1]);
+            Ok(())
+        })
+        .unwrap();
+    let n = counts.into_inner();
+    println!("rectangles f32: {:?}\nrectangles f64: {:?}", n[0], n[1]);
+    assert!(n.iter().all(|c| c.accepted > 1000 && c.samples > 0));
+}

@@ -1,0 +1,193 @@
+//! The random and near-degenerate light shapes of the fuzz (shared by
+//! `light_fuzz.rs` and `one_shot.rs`): spherical triangles (random, nearly
+//! coincident, nearly antipodal, nearly collinear vertices, points at scales
+//! 1e-30 … 1e30) and spherical rectangles (observers 1e-6 … 1e-300 off the
+//! plane, elongated, scales 1e-30 … 1e30), and the values of `u`, `v` every
+//! accepted shape is sampled at.
+#![allow(dead_code)] // each test crate uses a part
+
+use areawarp::{Real, Vec3};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+
+/// A triangle case: vertex directions, or points and an observer.
+#[derive(Clone, Debug)]
+pub struct TriangleCase {
+    pub kind: &'static str,
+    pub v: [[f64; 3]; 3],
+    /// `Some(o)`: the vertices are points seen from `o`.
+    pub observer: Option<[f64; 3]>,
+}
+
+/// A rectangle case: corner, edges, observer.
+#[derive(Clone, Debug)]
+pub struct RectangleCase {
+    pub kind: &'static str,
+    pub s: [f64; 3],
+    pub ex: [f64; 3],
+    pub ey: [f64; 3],
+    pub o: [f64; 3],
+}
+
+pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+pub fn scale(a: [f64; 3], k: f64) -> [f64; 3] {
+    [a[0] * k, a[1] * k, a[2] * k]
+}
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+pub fn normalize(a: [f64; 3]) -> [f64; 3] {
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    if n > 0.0 {
+        scale(a, 1.0 / n)
+    } else {
+        [1.0, 0.0, 0.0]
+    }
+}
+
+/// A direction (not normalized, not zero).
+pub fn direction() -> impl Strategy<Value = [f64; 3]> {
+    prop::array::uniform3(-1.0f64..1.0).prop_map(|a| {
+        if a.iter().all(|x| x.abs() < 1e-3) {
+            [1.0, a[1], a[2]]
+        } else {
+            a
+        }
+    })
+}
+
+/// `10^e` for `e` uniform in `[lo, hi]`.
+pub fn power(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo..hi).prop_map(|e| 10f64.powf(e))
+}
+
+pub fn triangle_case() -> impl Strategy<Value = TriangleCase> {
+    let random = (direction(), direction(), direction()).prop_map(|(a, b, c)| TriangleCase {
+        kind: "random",
+        v: [a, b, c],
+        observer: None,
+    });
+    // B and C within δ of A.
+    let coincident =
+        (direction(), direction(), direction(), power(-17.0, -1.0)).prop_map(|(a, db, dc, d)| {
+            let a = normalize(a);
+            TriangleCase {
+                kind: "nearly coincident",
+                v: [a, add(a, scale(db, d)), add(a, scale(dc, d * 0.7))],
+                observer: None,
+            }
+        });
+    // C within δ of −A (or of −B).
+    let antipodal = (
+        direction(),
+        direction(),
+        direction(),
+        power(-17.0, -1.0),
+        any::<bool>(),
+    )
+        .prop_map(|(a, b, dc, d, from_b)| {
+            let a = normalize(a);
+            let b = normalize(b);
+            let base = if from_b { b } else { a };
+            TriangleCase {
+                kind: "nearly antipodal",
+                v: [a, b, add(scale(base, -1.0), scale(dc, d))],
+                observer: None,
+            }
+        });
+    // C within δ of the great circle through A and B (or of their chord).
+    let collinear = (
+        direction(),
+        direction(),
+        -1.5f64..2.5,
+        power(-17.0, -1.0),
+        any::<bool>(),
+    )
+        .prop_map(|(a, b, t, d, chord)| {
+            let a = normalize(a);
+            let b = normalize(b);
+            let n = normalize(cross(a, b));
+            let on = add(scale(a, 1.0 - t), scale(b, t));
+            let on = if chord { on } else { normalize(on) };
+            TriangleCase {
+                kind: "nearly collinear",
+                v: [a, b, add(on, scale(n, d))],
+                observer: None,
+            }
+        });
+    // Points at scale 10^k seen from an observer at the same scale.
+    let points = (
+        direction(),
+        direction(),
+        direction(),
+        direction(),
+        power(-30.0, 30.0),
+    )
+        .prop_map(|(a, b, c, o, k)| TriangleCase {
+            kind: "points at scale",
+            v: [scale(a, k), scale(b, k), scale(c, k)],
+            observer: Some(scale(o, k * 0.5)),
+        });
+    prop_oneof![random, coincident, antipodal, collinear, points]
+}
+
+pub fn rectangle_case() -> impl Strategy<Value = RectangleCase> {
+    (
+        direction(),
+        direction(),
+        direction(),
+        (power(-2.0, 2.0), power(-2.0, 2.0)),
+        (-1.0f64..2.0, -1.0f64..2.0),
+        prop_oneof![power(-300.0, -6.0), power(-6.0, 1.0)],
+        any::<bool>(),
+        power(-30.0, 30.0),
+    )
+        .prop_map(|(c, n, t, (lx, ly), (fx, fy), h, below, k)| {
+            let n = normalize(n);
+            let t1 = normalize(cross(n, t));
+            let t2 = cross(n, t1);
+            let (ex, ey) = (scale(t1, lx * k), scale(t2, ly * k));
+            let s = scale(c, k);
+            let foot = add(add(s, scale(ex, fx)), scale(ey, fy));
+            let h = if below { -h } else { h };
+            RectangleCase {
+                kind: if h.abs() < 1e-6 { "grazing" } else { "random" },
+                s,
+                ex,
+                ey,
+                o: add(foot, scale(n, h * k)),
+            }
+        })
+}
+
+/// A runner with a fixed seed: the counts are reproducible.
+pub fn runner(config: Config) -> TestRunner {
+    TestRunner::new_with_rng(config, TestRng::deterministic_rng(RngAlgorithm::ChaCha))
+}
+
+/// The six values of `u` and `v` every accepted shape is sampled at.
+pub fn unit_values<T: Real>() -> [T; 6] {
+    let subnormal = if T::precision() == 24 {
+        f64::from(f32::from_bits(1))
+    } else {
+        f64::from_bits(1)
+    };
+    [
+        T::zero(),
+        T::from_f64(subnormal),
+        T::from_f64(1e-7),
+        T::from_ratio(1, 2),
+        T::one() - &T::unit_roundoff(),
+        T::one(),
+    ]
+}
+
+pub fn v3<T: Real>(a: &[f64; 3]) -> Vec3<T> {
+    Vec3::new(T::from_f64(a[0]), T::from_f64(a[1]), T::from_f64(a[2]))
+}
