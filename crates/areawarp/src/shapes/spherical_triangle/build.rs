@@ -176,10 +176,12 @@ impl<W: Real> Core<W> {
         let den = q_sum / &two + &third.dot(&sum);
         let ccw = det > zero;
         let abs_det = det.abs();
+        // Ω first: the arc's tangent below runs while atan2 computes (on
+        // the one-shot path nothing else hides atan2's latency).
+        let omega = abs_det.atan2(&den) * &two;
         let (c_perp, sin_b) = tangent(&a, &c).ok_or(reject::ANTIPODAL)?;
         let d = abs_det.clone() / &sin_b;
         let ka = ab.dot(&c_perp);
-        let omega = abs_det.atan2(&den) * &two;
         if !positive(&omega) || !positive(&d) || !d.is_finite() {
             return Err(reject::UNDERFLOW);
         }
