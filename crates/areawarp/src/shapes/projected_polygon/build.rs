@@ -76,21 +76,25 @@ pub(super) fn unit_direction<T: Real>(
     if !(n > T::zero() && n.is_finite()) {
         return Err(zero());
     }
-    Ok(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
+    Ok(w.scale(&(T::one() / &n)))
 }
 
 /// Validates the vertices, normalizes them and orients the polygon so that
 /// the smaller of the two regions its boundary bounds lies to the left
 /// (`(v_i × v_{i+1}) · p > 0` inside). Returns the vertices and the solid
 /// angle of that region.
-pub(super) fn prepare<T: Real>(vertices: &[Vec3<T>]) -> Result<(Vec<Vec3<T>>, T), WarpError> {
+/// The vertices come as an iterator (the constructor widens them on the
+/// way, without a copy of its own).
+pub(super) fn prepare<T: Real>(
+    vertices: impl ExactSizeIterator<Item = Vec3<T>>,
+) -> Result<(Vec<Vec3<T>>, T), WarpError> {
     let n = vertices.len();
     if n < 3 {
         return Err(degenerate("a polygon needs at least 3 vertices"));
     }
     let mut v = Vec::with_capacity(n);
     for p in vertices {
-        v.push(unit_direction(p, "polygon vertex")?);
+        v.push(unit_direction(&p, "polygon vertex")?);
     }
     for i in 0..n {
         let (a, b) = (&v[i], &v[(i + 1) % n]);

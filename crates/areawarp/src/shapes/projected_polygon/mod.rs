@@ -366,8 +366,7 @@ impl<T: Real> ProjectedPolygon<T> {
         // two consecutive unit vertices round together in f32. For a
         // narrower T the clipping, the partition and every constant are
         // computed in the wide type too and rounded (`narrow.rs`).
-        let wide: Vec<Vec3<T::Wide>> = local.iter().map(widen3).collect();
-        let (vertices_w, solid_angle_w) = prepare(&wide)?;
+        let (vertices_w, solid_angle_w) = prepare(local.iter().map(widen3))?;
         let built = if T::precision() < <T::Wide as Real>::precision() {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
