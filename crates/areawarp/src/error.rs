@@ -30,6 +30,18 @@ pub enum WarpError {
         /// The valid range, in words.
         expected: &'static str,
     },
+    /// A numerical construction (quadrature, tabulation) did not reach the
+    /// accuracy it must certify.
+    NotConverged {
+        /// What did not converge.
+        what: &'static str,
+    },
+    /// Two computations of the same quantity disagree (e.g. a closed form
+    /// supplied by the user and the quadrature).
+    Inconsistent {
+        /// What disagrees.
+        what: &'static str,
+    },
 }
 
 impl fmt::Display for WarpError {
@@ -43,6 +55,8 @@ impl fmt::Display for WarpError {
             WarpError::InvalidParameter { name, expected } => {
                 write!(f, "invalid parameter {name}: expected {expected}")
             }
+            WarpError::NotConverged { what } => write!(f, "did not converge: {what}"),
+            WarpError::Inconsistent { what } => write!(f, "inconsistent: {what}"),
         }
     }
 }

@@ -176,6 +176,9 @@ impl<T: Real> Real for Dual2<T> {
     fn type_name() -> String {
         format!("dual<{}>", T::type_name())
     }
+    fn detached(&self) -> Self {
+        Dual2::constant(self.re.clone())
+    }
     fn precision() -> u32 {
         T::precision()
     }

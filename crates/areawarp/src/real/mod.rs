@@ -194,6 +194,13 @@ pub trait Real:
     fn square(&self) -> Self {
         self.clone() * self
     }
+    /// The value alone, as a constant: `self` for plain scalars, the real
+    /// part with zero derivatives for [`Dual2`]. Lets a numerical inversion
+    /// state its derivative (1/F' at the root it returns) instead of
+    /// inheriting whatever its iterations carried.
+    fn detached(&self) -> Self {
+        self.clone()
+    }
 }
 
 /// Scalars `Self` into which the constants of a shape stored as `T` can be

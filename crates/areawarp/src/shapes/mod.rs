@@ -19,7 +19,7 @@ mod std_normal;
 mod tent;
 #[cfg(test)]
 mod test_support;
-mod turns;
+pub(crate) mod turns;
 mod uniform_cone;
 mod von_mises_fisher;
 mod wide;

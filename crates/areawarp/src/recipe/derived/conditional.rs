@@ -1,0 +1,377 @@
+//! The conditional G_s(t) at any s: one partition of the t-axis, shared by
+//! every s and fixed at construction, on which σw(s, ·) is interpolated at
+//! sample time (no allocation: stack buffers of [`MAX_NODES`]).
+
+use super::partition::{Settings, adaptive_partition};
+use super::piecewise::{Masses, PanelView, invert_in_panel};
+use crate::real::Real;
+use crate::recipe::AreaDensity;
+use crate::recipe::chebyshev::{
+    ChebyshevLevels, MAX_NODES, TAIL_ULPS, integral_coefficients_into, local, tail,
+};
+
+/// One t-panel: its ends, half-width, node count and nodes.
+#[derive(Clone, Debug)]
+struct TPanel<T> {
+    a: T,
+    b: T,
+    half: T,
+    inv_width: T,
+    n: usize,
+    /// The largest tail a probe's interpolant was accepted with here.
+    tail: T,
+    nodes: Vec<T>,
+    /// The nodes' actual local coordinates, where they are off the
+    /// Chebyshev points by more than a unit roundoff (else empty).
+    xi: Vec<T>,
+}
+
+/// The t-panels of the conditional.
+#[derive(Clone, Debug)]
+pub(crate) struct ConditionalGrid<T> {
+    panels: Vec<TPanel<T>>,
+}
+
+/// The outcome of evaluating Z(s) = ∫₀¹ σw(s, t) dt with the resolution of
+/// every non-negligible t-panel checked.
+pub(crate) struct CheckedNormalizer<T> {
+    pub value: T,
+    pub resolved: bool,
+}
+
+impl<T: Real> ConditionalGrid<T> {
+    /// The grid for which σw(s, ·) is resolved at every probe s: the union
+    /// of the adaptive partitions of each probe, each merged panel with the
+    /// largest node count any probe needed there. Returns the grid, whether
+    /// every probe was resolved, and the σ evaluations spent.
+    pub fn build<D: AreaDensity<T>>(
+        def: &D,
+        probes: &[T],
+        levels: &ChebyshevLevels<T>,
+        settings: &Settings<T>,
+    ) -> (Self, bool, usize) {
+        type Piece<T> = (T, T, usize, T);
+        let mut parts = Vec::with_capacity(probes.len());
+        let mut evaluations = 0;
+        let mut all_resolved = true;
+        for s in probes {
+            let mut f = |t: &T| def.sigma(s, t);
+            let p = adaptive_partition(&mut f, levels, settings);
+            evaluations += p.evaluations;
+            all_resolved &= p.resolved;
+            parts.push(
+                p.fits
+                    .into_iter()
+                    .map(|f| (f.a, f.b, f.n, f.tail))
+                    .collect::<Vec<Piece<T>>>(),
+            );
+        }
+        // Union of the (dyadic, hence exactly comparable) breakpoints.
+        let mut breaks: Vec<T> = vec![T::zero(), T::one()];
+        for part in &parts {
+            for (a, _, _, _) in part {
+                breaks.push(a.clone());
+            }
+        }
+        breaks.sort_by(|x, y| x.partial_cmp(y).expect("finite breakpoints"));
+        breaks.dedup();
+        let mut panels = Vec::with_capacity(breaks.len() - 1);
+        for w in breaks.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            let mut n = levels.levels[0].n;
+            let mut worst = T::zero();
+            for part in &parts {
+                for (pa, pb, pn, pt) in part {
+                    if *pa <= *a && *b <= *pb {
+                        n = n.max(*pn);
+                        if pt.is_finite() {
+                            worst = worst.max(pt);
+                        }
+                    }
+                }
+            }
+            panels.push(TPanel::new(a.clone(), b.clone(), n, worst, levels));
+        }
+        (ConditionalGrid { panels }, all_resolved, evaluations)
+    }
+
+    /// Number of t-panels.
+    pub fn panels(&self) -> usize {
+        self.panels.len()
+    }
+
+    /// The largest tail a t-panel was accepted with.
+    pub fn worst_tail(&self) -> T {
+        let mut w = T::zero();
+        for p in &self.panels {
+            w = w.max(&p.tail);
+        }
+        w
+    }
+
+    /// σ evaluations per Z(s).
+    pub fn nodes_total(&self) -> usize {
+        self.panels.iter().map(|p| p.n).sum()
+    }
+
+    /// The largest node count of a t-panel.
+    pub fn max_nodes(&self) -> usize {
+        self.panels.iter().map(|p| p.n).max().unwrap_or(0)
+    }
+
+    /// σw(s, ·) at panel j's nodes into `buf`; returns the panel's mass.
+    fn values<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        j: usize,
+        levels: &ChebyshevLevels<T>,
+        buf: &mut [T],
+    ) -> T {
+        let p = &self.panels[j];
+        for (slot, t) in buf.iter_mut().zip(&p.nodes) {
+            *slot = def.sigma(s, t);
+        }
+        levels.level(p.n).integral(&buf[..p.n]) * &p.half
+    }
+
+    /// Z(s) = ∫₀¹ σw(s, t) dt, with the resolution of every non-negligible
+    /// panel checked (construction only: it computes every panel's
+    /// coefficients).
+    pub fn normalizer_checked<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        levels: &ChebyshevLevels<T>,
+    ) -> CheckedNormalizer<T> {
+        let mut buf: Vec<T> = vec![T::zero(); MAX_NODES];
+        let mut coeffs: Vec<T> = vec![T::zero(); MAX_NODES];
+        let mut value = T::zero();
+        let mut panel_scales = Vec::with_capacity(self.panels.len());
+        let mut ok = true;
+        for j in 0..self.panels.len() {
+            let m = self.values(def, s, j, levels, &mut buf);
+            value += &m;
+            let p = &self.panels[j];
+            let vals = &buf[..p.n];
+            if !vals.iter().all(|v| v.is_finite()) {
+                ok = false;
+                continue;
+            }
+            let mut scale = T::zero();
+            for v in vals {
+                scale = scale.max(&v.abs());
+            }
+            p.coefficients(levels, vals, &mut coeffs);
+            let width = p.b.clone() - &p.a;
+            let allowed = (T::from_i64(TAIL_ULPS) * &T::unit_roundoff()).max(&(p.tail.clone() * &T::from_i64(4)));
+            panel_scales.push((tail(&coeffs[..p.n], &scale) <= allowed, scale * &width));
+        }
+        let negligible = T::unit_roundoff().square() * &value.abs();
+        for (res, weight) in panel_scales {
+            if !res && weight > negligible {
+                ok = false;
+            }
+        }
+        let finite = value.is_finite();
+        CheckedNormalizer {
+            value,
+            resolved: ok && finite,
+        }
+    }
+
+    /// Z(s) = ∫₀¹ σw(s, t) dt.
+    pub fn normalizer<D: AreaDensity<T>>(&self, def: &D, s: &T, levels: &ChebyshevLevels<T>) -> T {
+        let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
+        let mut total = T::zero();
+        for j in 0..self.panels.len() {
+            total += &self.values(def, s, j, levels, &mut buf);
+        }
+        total
+    }
+
+    /// The panel where the conditional CDF crosses `y` (the first for
+    /// y ≤ 0, the last for y ≥ 1), with the masses before and after it;
+    /// leaves that panel's values in `buf`. `total` is Z(s).
+    fn locate<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        y: &T,
+        total: &T,
+        levels: &ChebyshevLevels<T>,
+        buf: &mut [T],
+        last_filled: usize,
+    ) -> (usize, T, T, T) {
+        let count = self.panels.len();
+        let half = T::from_ratio(1, 2);
+        let get = |j: usize, buf: &mut [T]| -> T {
+            if count == 1 && last_filled == 0 {
+                // The only panel's values are still in the buffer.
+                levels.level(self.panels[0].n).integral(&buf[..self.panels[0].n])
+                    * &self.panels[0].half
+            } else {
+                self.values(def, s, j, levels, buf)
+            }
+        };
+        if y.is_nan() || *y <= half {
+            let target = y.clone() * total;
+            let mut before = T::zero();
+            for j in 0..count {
+                let m = get(j, buf);
+                if j + 1 == count || before.clone() + &m >= target || !(*y > T::zero()) {
+                    let after = (total.clone() - &before - &m).max(&T::zero());
+                    return (j, before, m, after);
+                }
+                before += &m;
+            }
+        } else {
+            let target = (T::one() - y) * total;
+            let mut after = T::zero();
+            for j in (0..count).rev() {
+                let m = get(j, buf);
+                if j == 0 || after.clone() + &m >= target || !(*y < T::one()) {
+                    let before = (total.clone() - &after - &m).max(&T::zero());
+                    return (j, before, m, after);
+                }
+                after += &m;
+            }
+        }
+        unreachable!("the loops return at their last panel")
+    }
+
+    /// Z(s) and the values of the last panel in `buf` (index returned).
+    fn total_with_values<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        levels: &ChebyshevLevels<T>,
+        buf: &mut [T],
+    ) -> (T, usize) {
+        let mut total = T::zero();
+        for j in 0..self.panels.len() {
+            total += &self.values(def, s, j, levels, buf);
+        }
+        (total, self.panels.len() - 1)
+    }
+
+    /// G_s⁻¹(v). Where Z(s) is not positive (a pole of φ, where every t
+    /// gives the same point) it returns v.
+    pub fn inverse<D: AreaDensity<T>>(&self, def: &D, s: &T, v: &T, levels: &ChebyshevLevels<T>) -> T {
+        let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
+        let (total, last) = self.total_with_values(def, s, levels, &mut buf);
+        if !(total > T::zero()) || !total.is_finite() {
+            return v.clamp(&T::zero(), &T::one());
+        }
+        let (j, before, own, after) = self.locate(def, s, v, &total, levels, &mut buf, last);
+        let p = &self.panels[j];
+        let mut density: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
+        let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
+        let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
+        p.coefficients(levels, &buf, &mut density);
+        let poly_mass =
+            integral_coefficients_into(&density[..p.n], &p.half, &mut left[..=p.n], &mut right[..=p.n]);
+        // One panel: its polynomial's own mass as Z, so that G_s(1) = 1 and a
+        // constant density gives G_s(t) = t exactly.
+        let (total, own) = if self.panels.len() == 1 {
+            (poly_mass.clone(), poly_mass)
+        } else {
+            (total, own)
+        };
+        let view = PanelView {
+            a: &p.a,
+            b: &p.b,
+            inv_width: &p.inv_width,
+            density_ends: [&buf[p.n - 1], &buf[0]],
+            density: &density[..p.n],
+            left: &left[..=p.n],
+            right: &right[..=p.n],
+        };
+        let inv_total = T::one() / &total;
+        let masses = Masses {
+            before: &before,
+            after: &after,
+            own: &own,
+            total: &total,
+            inv_total: &inv_total,
+        };
+        invert_in_panel(view, &masses, v)
+    }
+
+    /// G_s(t) (0 where Z(s) is not positive... then t itself).
+    pub fn cdf<D: AreaDensity<T>>(&self, def: &D, s: &T, t: &T, levels: &ChebyshevLevels<T>) -> T {
+        let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
+        let total = self.normalizer(def, s, levels);
+        let t = t.clamp(&T::zero(), &T::one());
+        if !(total > T::zero()) || !total.is_finite() {
+            return t;
+        }
+        let mut before = T::zero();
+        let count = self.panels.len();
+        for j in 0..count {
+            let p = &self.panels[j];
+            if t > p.b && j + 1 < count {
+                before += &self.values(def, s, j, levels, &mut buf);
+                continue;
+            }
+            self.values(def, s, j, levels, &mut buf);
+            let mut density: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
+            let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
+            let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
+            p.coefficients(levels, &buf, &mut density);
+            integral_coefficients_into(&density[..p.n], &p.half, &mut left[..=p.n], &mut right[..=p.n]);
+            let view = PanelView {
+                a: &p.a,
+                b: &p.b,
+                inv_width: &p.inv_width,
+                density_ends: [&buf[p.n - 1], &buf[0]],
+                density: &density[..p.n],
+                left: &left[..=p.n],
+                right: &right[..=p.n],
+            };
+            let from_left = (before + &view.left_at(&t)) / &total;
+            if from_left <= T::from_ratio(1, 2) {
+                return from_left;
+            }
+            // Near 1: the complement, accumulated from the right.
+            let mut after = view.right_at(&t);
+            for k in j + 1..count {
+                after += &self.values(def, s, k, levels, &mut buf);
+            }
+            return T::one() - &(after / &total);
+        }
+        T::one()
+    }
+}
+
+impl<T: Real> TPanel<T> {
+    fn new(a: T, b: T, n: usize, tail: T, levels: &ChebyshevLevels<T>) -> Self {
+        let half = (b.clone() - &a) / &T::from_i64(2);
+        let inv_width = T::one() / &(b.clone() - &a);
+        let level = levels.level(n);
+        let nodes: Vec<T> = (0..n).map(|k| level.node(&a, &b, &half, k)).collect();
+        let xi: Vec<T> = nodes.iter().map(|t| local(t, &a, &b, &inv_width)).collect();
+        let xi = if level.nodes_exact(&xi) { Vec::new() } else { xi };
+        TPanel {
+            a,
+            b,
+            half,
+            inv_width,
+            n,
+            tail,
+            nodes,
+            xi,
+        }
+    }
+
+    /// The interpolant's coefficients from the values at the nodes.
+    fn coefficients(&self, levels: &ChebyshevLevels<T>, values: &[T], out: &mut [T]) {
+        let level = levels.level(self.n);
+        if self.xi.is_empty() {
+            level.coefficients_into(&values[..self.n], &mut out[..self.n]);
+        } else {
+            let mut work: [T; 2 * MAX_NODES] = core::array::from_fn(|_| T::zero());
+            level.coefficients_at(&values[..self.n], &self.xi, &mut out[..self.n], &mut work);
+        }
+    }
+}
