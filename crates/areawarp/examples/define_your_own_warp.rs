@@ -1,13 +1,16 @@
-//! Define your own warp with Arvo's recipe: uniform sampling of a spherical
-//! cap, the cone of directions within an angle θ_max of +z.
+//! Define your own warp by its parametrization alone: uniform sampling of a
+//! spherical cap, the cone of directions within an angle θ_max of +z.
 //!
-//! Only the recipe traits are implemented — steps 1 to 3 — and the two CDFs
-//! are inverted numerically (no closed-form inverse is given), yet the
-//! composed map is area-preserving to 256-bit accuracy, which the checking
-//! harness proves with exact (dual-number) partial derivatives.
+//! Only step 1 of Arvo's recipe is written — φ(s, t), its chart φ⁻¹, and how
+//! to rebuild it at another precision. The framework derives the rest: σ by
+//! dual numbers, the measure, F and G_s by adaptive quadrature to the
+//! precision of the scalar, their inversion by safeguarded Newton — and the
+//! harness proves the composed map area-preserving to 256-bit accuracy.
+//! (For a weighted target, override `AreaDensity::weight`; see
+//! `examples/cosine_weighted_cap.rs`.)
 //!
 //! ```text
-//! cargo run --example define_your_own_warp
+//! cargo run --release -p areawarp --features mpfr --example define_your_own_warp
 //! ```
 //!
 //! Walk-through: `docs/recipe.md`.
@@ -20,39 +23,16 @@ use areawarp::harness::{
     roundtrip::{RoundTripReport, check_roundtrip},
 };
 use areawarp::real::{Embed, Real, convert};
-use areawarp::recipe::{
-    AreaDensity, MarginalConditional, Newton, Parametrization, Recipe, RecipeWarp,
-};
+use areawarp::recipe::{AreaDensity, DerivedWarp, Parametrization, WarpDefinition};
 use areawarp::{Vec3, WarpError};
 
 /// The spherical cap {p ∈ S², angle(p, +z) ≤ θ_max}, 0 < θ_max ≤ π.
-///
-/// * Step 1: φ(s, t) = (sin θ cos 2πt, sin θ sin 2πt, cos θ) with θ = s·θ_max.
-/// * Step 2: σ = ‖φ_s × φ_t‖ = 2π θ_max sin θ (derived by the default
-///   [`AreaDensity::sigma`] from dual numbers; not written here).
-/// * Step 3: area m = 2π (1 − cos θ_max) = 4π sin²(θ_max/2);
-///   F(s) = (1 − cos sθ_max)/(1 − cos θ_max) = sin²(sθ_max/2)/sin²(θ_max/2)
-///   (half-angle form: no cancellation near the pole), G_s(t) = t.
-/// * Step 4: numerical ([`Newton`]); step 5: [`RecipeWarp`].
-///
-/// Every constant is built from the type (`T::pi()`, `T::from_i64`), never
-/// from an `f64` literal, so the same code is exact at 256 bits.
 #[derive(Clone, Debug)]
-pub struct CapRecipe<T> {
+pub struct Cap<T> {
     theta_max: T,
-    /// θ_max / 2.
-    half_theta: T,
-    /// 1 / sin²(θ_max/2): normalizes F.
-    inv_sin2_half: T,
-    /// 2π.
-    two_pi: T,
-    /// 1 / (2π).
-    inv_two_pi: T,
-    /// The area 4π sin²(θ_max/2).
-    area: T,
 }
 
-impl<T: Real> CapRecipe<T> {
+impl<T: Real> Cap<T> {
     /// The cap of half-angle `theta_max` (radians) around +z.
     ///
     /// # Errors
@@ -68,91 +48,49 @@ impl<T: Real> CapRecipe<T> {
                 expected: "0 < theta_max <= pi",
             });
         }
-        let half_theta = theta_max.clone() / &T::from_i64(2);
-        let sin2_half = half_theta.sin().square();
-        let two_pi = T::pi() * &T::from_i64(2);
-        Ok(CapRecipe {
-            inv_sin2_half: T::one() / &sin2_half,
-            area: two_pi.clone() * &T::from_i64(2) * &sin2_half,
-            inv_two_pi: T::one() / &two_pi,
-            two_pi,
-            half_theta,
-            theta_max,
-        })
+        Ok(Cap { theta_max })
     }
 }
 
-// Step 1. Generic over the evaluation scalar S (T itself, or dual numbers
-// over T for exact derivatives): constants are embedded with `S::embed`.
-impl<T: Real> Parametrization<T> for CapRecipe<T> {
+// Step 1: φ(s, t) = (sin θ cos 2πt, sin θ sin 2πt, cos θ), θ = s·θ_max. Generic
+// over the evaluation scalar S (T, or dual numbers over T for the exact
+// derivatives σ is made of); constants are built in S, never from f64 literals.
+impl<T: Real> Parametrization<T> for Cap<T> {
     fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
         let (sin_th, cos_th) = (S::embed(&self.theta_max) * s).sin_cos();
-        let (sin_az, cos_az) = (S::embed(&self.two_pi) * t).sin_cos();
+        let (sin_az, cos_az) = (S::pi() * &S::from_i64(2) * t).sin_cos();
         Vec3::new(sin_th.clone() * &cos_az, sin_th * &sin_az, cos_th)
     }
 
-    /// φ⁻¹: polar angle by atan2 (accurate at the pole), azimuth in turns.
+    /// φ⁻¹, for `Warp::inverse`: polar angle by atan2, azimuth in turns.
     fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        if !p.is_finite() {
-            return None;
-        }
         let theta = p.x.hypot(&p.y).atan2(&p.z);
-        let mut t = p.y.atan2(&p.x) * &self.inv_two_pi;
-        if t < T::zero() {
-            t += &T::one();
-        }
-        if t >= T::one() {
-            t = T::zero();
-        }
-        Some((theta / &self.theta_max, t))
+        let turns = p.y.atan2(&p.x) / &(T::pi() * &T::from_i64(2));
+        let t = if turns < T::zero() { turns + &T::one() } else { turns };
+        p.is_finite().then(|| (theta / &self.theta_max, t.min(&T::one())))
     }
 }
 
-// Step 2: uniform weight; σ comes from the default (dual numbers).
-impl<T: Real> AreaDensity<T> for CapRecipe<T> {}
+// The weight: uniform (w = 1, the default).
+impl<T: Real> AreaDensity<T> for Cap<T> {}
 
-// Step 3, with no closed-form inverses.
-impl<T: Real> MarginalConditional<T> for CapRecipe<T> {
-    fn measure(&self) -> T {
-        self.area.clone()
-    }
-    fn marginal_cdf(&self, s: &T) -> T {
-        (self.half_theta.clone() * s).sin().square() * &self.inv_sin2_half
-    }
-    fn marginal_pdf(&self, s: &T) -> T {
-        // d/ds sin²(sθ/2) = (θ/2) sin(sθ).
-        (self.theta_max.clone() * s).sin() * &self.half_theta * &self.inv_sin2_half
-    }
-    fn conditional_cdf(&self, _s: &T, t: &T) -> T {
-        t.clone()
-    }
-    fn conditional_pdf(&self, _s: &T, _t: &T) -> T {
-        T::one()
-    }
-}
-
-// Steps 1–3 at any precision.
-impl<T: Real> Recipe<T> for CapRecipe<T> {
-    type At<S: Real> = CapRecipe<S>;
-    fn recast<S: Real>(&self) -> Result<CapRecipe<S>, WarpError> {
-        CapRecipe::new(convert::<T, S>(&self.theta_max))
+// The same cap at any precision.
+impl<T: Real> WarpDefinition<T> for Cap<T> {
+    type At<S: Real> = Cap<S>;
+    fn recast<S: Real>(&self) -> Result<Cap<S>, WarpError> {
+        Cap::new(convert::<T, S>(&self.theta_max))
     }
     fn name(&self) -> String {
         format!("cap(theta_max={})", self.theta_max.to_f64())
     }
 }
 
-/// The composed warp: ψ(u, v) = φ(F⁻¹(u), G_s⁻¹(v)), both inverted by
-/// safeguarded Newton.
-pub type CapWarp<T> = RecipeWarp<CapRecipe<T>, Newton, Newton>;
+/// The derived warp: ψ(u, v) = φ(F⁻¹(u), G_s⁻¹(v)), all of it computed.
+pub type CapWarp<T> = DerivedWarp<T, Cap<T>>;
 
 /// The cap warp for `theta_max` (radians, data).
 pub fn cap_warp(theta_max: f64) -> Result<CapWarp<f64>, WarpError> {
-    Ok(RecipeWarp::new(
-        CapRecipe::new(theta_max)?,
-        Newton::default(),
-        Newton::default(),
-    ))
+    DerivedWarp::new(Cap::new(theta_max)?)
 }
 
 /// Bounds the example (and its test) holds the warp to: the Jacobian
@@ -220,18 +158,15 @@ pub fn check_cap(theta_max: f64) -> Result<CapChecks, WarpError> {
 }
 
 /// The half-angles the example checks: a narrow cone, 60°, a hemisphere,
-/// and two wide caps.
-///
-/// As θ_max → π the antipode becomes a second pole (F'(1) → 0) and the
-/// numerical inversion near u = 1 loses f64 digits to conditioning (about
-/// 1000 units of roundoff at θ_max = 3.14; the 256-bit Jacobian stays exact):
-/// the whole sphere wants its own parametrization (Archimedes, z = 1 − 2u).
-pub const THETAS: [f64; 5] = [
+/// two wide caps, and the whole sphere (θ_max = π, where the antipode is a
+/// second pole: the derived inversion works from the far end there).
+pub const THETAS: [f64; 6] = [
     0.05,
     std::f64::consts::FRAC_PI_3,
     std::f64::consts::FRAC_PI_2,
     2.5,
     3.0,
+    std::f64::consts::PI,
 ];
 
 #[cfg(feature = "mpfr")]

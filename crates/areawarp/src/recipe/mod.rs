@@ -29,10 +29,12 @@ mod derived;
 mod distribution;
 pub mod invert;
 mod parametrization;
+pub mod tabulated;
 
 pub use compose::{Recipe, RecipeWarp};
 pub use definition::WarpDefinition;
 pub use derived::{DerivedRecipe, DerivedWarp, QuadratureReport};
+pub use tabulated::{TabulatedWarp, TabulationReport};
 pub use density::AreaDensity;
 pub use distribution::MarginalConditional;
 pub use invert::{

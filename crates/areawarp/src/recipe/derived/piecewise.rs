@@ -35,14 +35,19 @@ impl<T: Real> PanelView<'_, T> {
     pub fn xi(&self, s: &T) -> T {
         local(s, self.a, self.b, self.inv_width)
     }
-    /// ξ of the point s = 1 − x, computed from x without forming 1 − x
-    /// (exact differences for a panel inside [1/2, 1], so x keeps its
-    /// relative precision near s = 1).
+    /// ξ of the point s = 1 − x. For a panel inside [1/2, 1] it is computed
+    /// from x without forming 1 − x (exact differences, so x keeps its
+    /// relative precision near s = 1); elsewhere through s = 1 − x, which is
+    /// accurate to a unit roundoff of s.
     fn xi_of_complement(&self, x: &T) -> T {
         let one = T::one();
-        let from_a = (one.clone() - self.a) - x; // s − a
-        let to_b = x.clone() - &(one - self.b); // b − s
-        (from_a - &to_b) * self.inv_width
+        if *self.a >= T::from_ratio(1, 2) {
+            let from_a = (one.clone() - self.a) - x; // s − a
+            let to_b = x.clone() - &(one - self.b); // b − s
+            (from_a - &to_b) * self.inv_width
+        } else {
+            self.xi(&(one - x))
+        }
     }
     /// Σ c_j T_j(ξ), with the value pinned to `exact` where ξ = ∓1 (a panel
     /// end): the series' value there is replaced by the exact one while its
@@ -141,10 +146,10 @@ pub(crate) struct Masses<'a, T> {
 /// CDF crosses y: the first panel for y ≤ 0, the last for y ≥ 1), by
 /// safeguarded Newton inside the panel.
 ///
-/// For y > 1/2 on a panel inside [1/2, 1] it solves 1 − F(s) = 1 − y
-/// (exact) in x = 1 − s, with the complement accumulated from the right and
-/// evaluated from x, so that near a zero of the density at s = 1 (a pole)
-/// s is as accurate as near s = 0.
+/// For y > 1/2 it solves 1 − F(s) = 1 − y (exact) in x = 1 − s, with the
+/// complement accumulated from the right (and, on a panel inside [1/2, 1],
+/// evaluated from x itself), so that in a thin tail of the density and near
+/// a zero of it at s = 1 (a pole) s is as accurate as near s = 0.
 ///
 /// # Derivatives
 /// The returned s is the Newton root s_r with its derivative stated, not
@@ -164,7 +169,7 @@ pub(crate) fn invert_in_panel<T: Real>(view: PanelView<'_, T>, masses: &Masses<'
     };
     let value = if y.is_nan() || !(*y > T::zero()) {
         return newton.invert(&left, y).x;
-    } else if *y > half && *view.a >= half {
+    } else if *y > half {
         let yc = T::one() - y;
         let right = RightCdf {
             view,

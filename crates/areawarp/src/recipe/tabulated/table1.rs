@@ -1,0 +1,235 @@
+//! A monotone function [0, 1] → [0, 1] (the inverse marginal F⁻¹) as
+//! polynomials of a fixed degree on adaptively bisected panels.
+
+use super::poly::{Basis, horner, interpolate_distinct};
+use crate::error::WarpError;
+use crate::real::{Real, convert};
+use crate::recipe::chebyshev::local;
+use crate::recipe::invert::{Cdf1, Newton};
+
+/// Panels of the table, with a uniform guide for the lookup.
+#[derive(Clone, Debug)]
+pub(crate) struct Table1<T> {
+    degree: usize,
+    /// Panel ends in u (len P + 1).
+    breaks: Vec<T>,
+    /// 1 / width per panel.
+    inv_width: Vec<T>,
+    /// The exact function at the breaks (len P + 1): the range of each
+    /// panel, to which its polynomial is clamped.
+    values: Vec<T>,
+    /// Monomial coefficients in the local ξ, (d + 1) per panel.
+    mono: Vec<T>,
+    /// guide\[c\] = the panel containing c/G, for c = 0 … G.
+    guide: Vec<usize>,
+}
+
+/// What fitting a table reports.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct FitStats {
+    pub panels: usize,
+    pub evaluations: usize,
+    /// Largest error seen at the check points (the estimate the fit is
+    /// accepted on).
+    pub estimated_error: f64,
+}
+
+impl<T: Real> Table1<T> {
+    /// Fits `f` (monotone, [0,1] → [0,1]) to absolute error `tol`/4 at the
+    /// check points of every panel, bisecting down to width `min_width`.
+    pub fn fit(
+        f: &mut dyn FnMut(&T) -> T,
+        degree: usize,
+        tol: &T,
+        min_width: &T,
+    ) -> Result<(Self, FitStats), WarpError> {
+        let basis = Basis::<T>::new(degree);
+        let target = tol.clone() / &T::from_i64(4);
+        let mut stats = FitStats::default();
+        let mut breaks = vec![T::zero()];
+        let mut values = vec![f(&T::zero())];
+        let mut mono = Vec::new();
+        let mut inv_width = Vec::new();
+        let mut worst = T::zero();
+        let mut stack = vec![(T::zero(), T::one())];
+        let two = T::from_i64(2);
+        while let Some((a, b)) = stack.pop() {
+            let half = (b.clone() - &a) / &two;
+            let mid = (a.clone() + &b) / &two;
+            let at = |xi: &T| -> T {
+                if *xi >= T::zero() {
+                    b.clone() - &(half.clone() * &(T::one() - xi))
+                } else {
+                    a.clone() + &(half.clone() * &(T::one() + xi))
+                }
+            };
+            let nodes: Vec<T> = basis.second.iter().map(&at).collect();
+            let vals: Vec<T> = nodes.iter().map(&mut *f).collect();
+            stats.evaluations += vals.len();
+            let iw = T::one() / &(b.clone() - &a);
+            let xi: Vec<T> = nodes.iter().map(|u| local(u, &a, &b, &iw)).collect();
+            let m = interpolate_distinct(&xi, &vals);
+            let mut err = T::zero();
+            for xi in &basis.checks_second {
+                let u = at(xi);
+                let exact = f(&u);
+                stats.evaluations += 1;
+                let approx = horner(&m, &local(&u, &a, &b, &iw));
+                err = err.max(&(approx - &exact).abs());
+            }
+            let splittable = b.clone() - &a > *min_width && mid > a && mid < b;
+            if !(err <= target) && splittable {
+                stack.push((mid.clone(), b.clone()));
+                stack.push((a, mid));
+                continue;
+            }
+            if !(err <= target) {
+                return Err(WarpError::NotConverged {
+                    what: "the tabulated inverse marginal at the narrowest panel",
+                });
+            }
+            worst = worst.max(&err);
+            breaks.push(b.clone());
+            values.push(vals[0].clone());
+            mono.extend(m);
+            inv_width.push(iw);
+        }
+        stats.panels = inv_width.len();
+        stats.estimated_error = worst.to_f64();
+        let table = Table1::assemble(degree, breaks, inv_width, values, mono);
+        Ok((table, stats))
+    }
+
+    fn assemble(
+        degree: usize,
+        breaks: Vec<T>,
+        inv_width: Vec<T>,
+        values: Vec<T>,
+        mono: Vec<T>,
+    ) -> Self {
+        let panels = inv_width.len();
+        let g = (2 * panels).max(16);
+        let mut guide = Vec::with_capacity(g + 1);
+        let mut i = 0;
+        for c in 0..=g {
+            let u = T::from_ratio(c as i64, g as i64);
+            while i + 1 < panels && breaks[i + 1] <= u {
+                i += 1;
+            }
+            guide.push(i);
+        }
+        Table1 {
+            degree,
+            breaks,
+            inv_width,
+            values,
+            mono,
+            guide,
+        }
+    }
+
+    /// Number of panels.
+    pub fn panels(&self) -> usize {
+        self.inv_width.len()
+    }
+
+    /// The panel containing `u` (clamped to [0, 1]).
+    fn locate(&self, u: &T) -> usize {
+        let g = self.guide.len() - 1;
+        let c = (u.clone() * &T::from_i64(g as i64)).floor().to_f64();
+        let c = if c.is_nan() || c < 0.0 {
+            0
+        } else {
+            (c as usize).min(g - 1)
+        };
+        let (mut lo, mut hi) = (self.guide[c], self.guide[c + 1]);
+        // Largest i in [lo, hi] with breaks[i] ≤ u.
+        while lo < hi {
+            let mid = (lo + hi).div_ceil(2);
+            if self.breaks[mid] <= *u {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        lo
+    }
+
+    /// The tabulated function at `u`.
+    pub fn eval(&self, u: &T) -> T {
+        let u = u.clamp(&T::zero(), &T::one());
+        let i = self.locate(&u);
+        self.eval_in(i, &u)
+    }
+
+    fn eval_in(&self, i: usize, u: &T) -> T {
+        let d1 = self.degree + 1;
+        let xi = local(u, &self.breaks[i], &self.breaks[i + 1], &self.inv_width[i]);
+        horner(&self.mono[i * d1..(i + 1) * d1], &xi).clamp(&self.values[i], &self.values[i + 1])
+    }
+
+    /// The u with eval(u) = s, by safeguarded Newton on the panel whose range
+    /// contains s.
+    pub fn inverse(&self, s: &T) -> T {
+        let panels = self.panels();
+        if !(*s > self.values[0]) {
+            return T::zero();
+        }
+        if !(*s < self.values[panels]) {
+            return T::one();
+        }
+        // Largest i with values[i] ≤ s.
+        let (mut lo, mut hi) = (0, panels - 1);
+        while lo < hi {
+            let mid = (lo + hi).div_ceil(2);
+            if self.values[mid] <= *s {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        let piece = Piece { table: self, i: lo };
+        let (a, b) = (self.breaks[lo].clone(), self.breaks[lo + 1].clone());
+        let frac = ((s.clone() - &self.values[lo]) / &(self.values[lo + 1].clone() - &self.values[lo]))
+            .clamp(&T::zero(), &T::one());
+        let x0 = a.clone() + &(frac * &(b.clone() - &a));
+        Newton::default().solve_in(&piece, s, x0, a, b).x
+    }
+
+    /// The same table over `S` (every number converted).
+    pub fn convert<S: Real>(&self) -> Table1<S> {
+        let c = |v: &Vec<T>| v.iter().map(convert::<T, S>).collect::<Vec<S>>();
+        Table1 {
+            degree: self.degree,
+            breaks: c(&self.breaks),
+            inv_width: c(&self.inv_width),
+            values: c(&self.values),
+            mono: c(&self.mono),
+            guide: self.guide.clone(),
+        }
+    }
+}
+
+/// One panel's polynomial as an increasing function for [`Newton`].
+struct Piece<'a, T> {
+    table: &'a Table1<T>,
+    i: usize,
+}
+
+impl<T: Real> Cdf1<T> for Piece<'_, T> {
+    fn cdf(&self, u: &T) -> T {
+        self.table.eval_in(self.i, u)
+    }
+    fn pdf(&self, u: &T) -> T {
+        // d/du of the polynomial: Horner on the derivative.
+        let t = self.table;
+        let d1 = t.degree + 1;
+        let m = &t.mono[self.i * d1..(self.i + 1) * d1];
+        let xi = local(u, &t.breaks[self.i], &t.breaks[self.i + 1], &t.inv_width[self.i]);
+        let mut acc = T::zero();
+        for (k, c) in m.iter().enumerate().skip(1).rev() {
+            acc = acc * &xi + &(c.clone() * &T::from_i64(k as i64));
+        }
+        acc * &t.inv_width[self.i] * &T::from_i64(2)
+    }
+}
