@@ -54,9 +54,15 @@ impl<T: Real> ConditionalGrid<T> {
         let mut parts = Vec::with_capacity(probes.len());
         let mut evaluations = 0;
         let mut all_resolved = true;
+        // One starting panel in t, seen at 17 points or more: the conditional
+        // is often uniform, and a single panel keeps it exactly so.
+        let settings = Settings {
+            start_panels: 1,
+            ..settings.clone()
+        };
         for s in probes {
             let mut f = |t: &T| def.sigma(s, t);
-            let p = adaptive_partition(&mut f, levels, settings);
+            let p = adaptive_partition(&mut f, levels, &settings);
             evaluations += p.evaluations;
             all_resolved &= p.resolved;
             parts.push(
@@ -296,6 +302,114 @@ impl<T: Real> ConditionalGrid<T> {
             inv_total: &inv_total,
         };
         invert_in_panel(view, &masses, v)
+    }
+
+    /// G_s⁻¹ at every v of `vs` (construction: one evaluation of σw(s, ·)
+    /// for all of them; the same numbers as [`ConditionalGrid::inverse`]).
+    pub fn inverse_many<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        vs: &[T],
+        levels: &ChebyshevLevels<T>,
+    ) -> Vec<T> {
+        let count = self.panels.len();
+        let mut buf: Vec<T> = vec![T::zero(); MAX_NODES];
+        let mut values = Vec::with_capacity(count);
+        let mut masses = Vec::with_capacity(count);
+        let mut total = T::zero();
+        for j in 0..count {
+            let m = self.values(def, s, j, levels, &mut buf);
+            total += &m;
+            masses.push(m);
+            values.push(buf[..self.panels[j].n].to_vec());
+        }
+        let mut polys = Vec::with_capacity(count);
+        for (j, vals) in values.iter().enumerate() {
+            let p = &self.panels[j];
+            let mut density = vec![T::zero(); MAX_NODES];
+            let mut left = vec![T::zero(); p.n + 1];
+            let mut right = vec![T::zero(); p.n + 1];
+            p.coefficients(levels, vals, &mut density);
+            density.truncate(p.n);
+            let poly_mass = integral_coefficients_into(&density, &p.half, &mut left, &mut right);
+            polys.push((density, left, right, poly_mass));
+        }
+        if count == 1 {
+            total = polys[0].3.clone();
+            masses[0] = total.clone();
+        }
+        if !(total > T::zero()) || !total.is_finite() {
+            return vs.iter().map(|v| v.clamp(&T::zero(), &T::one())).collect();
+        }
+        let inv_total = T::one() / &total;
+        let half = T::from_ratio(1, 2);
+        let mut before = Vec::with_capacity(count);
+        let mut acc = T::zero();
+        for m in &masses {
+            before.push(acc.clone());
+            acc += m;
+        }
+        let mut after = vec![T::zero(); count];
+        let mut acc = T::zero();
+        for j in (0..count).rev() {
+            after[j] = acc.clone();
+            acc += &masses[j];
+        }
+        vs.iter()
+            .map(|v| {
+                let j = if v.is_nan() || *v <= half {
+                    let target = v.clone() * &total;
+                    (0..count)
+                        .find(|&j| {
+                            j + 1 == count
+                                || before[j].clone() + &masses[j] >= target
+                                || !(*v > T::zero())
+                        })
+                        .unwrap_or(0)
+                } else {
+                    let target = (T::one() - v) * &total;
+                    (0..count)
+                        .rev()
+                        .find(|&j| j == 0 || after[j].clone() + &masses[j] >= target || !(*v < T::one()))
+                        .unwrap_or(count - 1)
+                };
+                let p = &self.panels[j];
+                let (density, left, right, _) = &polys[j];
+                let (b, a) = if count == 1 {
+                    (T::zero(), T::zero())
+                } else {
+                    (
+                        (total.clone() - &after[j] - &masses[j]).max(&T::zero()),
+                        (total.clone() - &before[j] - &masses[j]).max(&T::zero()),
+                    )
+                };
+                // The per-sample walk accumulates `before` (left) or `after`
+                // (right) itself and derives the other by difference.
+                let (bj, aj) = if v.is_nan() || *v <= half {
+                    (before[j].clone(), a)
+                } else {
+                    (b, after[j].clone())
+                };
+                let view = PanelView {
+                    a: &p.a,
+                    b: &p.b,
+                    inv_width: &p.inv_width,
+                    density_ends: [&values[j][p.n - 1], &values[j][0]],
+                    density,
+                    left,
+                    right,
+                };
+                let masses = Masses {
+                    before: &bj,
+                    after: &aj,
+                    own: &masses[j],
+                    total: &total,
+                    inv_total: &inv_total,
+                };
+                invert_in_panel(view, &masses, v)
+            })
+            .collect()
     }
 
     /// G_s(t) (0 where Z(s) is not positive... then t itself).

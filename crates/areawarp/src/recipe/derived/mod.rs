@@ -253,6 +253,14 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
         self.grid.inverse(&self.def, s, v, &self.levels)
     }
 
+    /// G_s⁻¹ at every v of `vs`, sharing one quadrature of σw(s, ·).
+    pub fn conditional_inverse_many(&self, s: &T, vs: &[T]) -> Vec<T> {
+        if self.closed.conditional_inverse || self.closed.conditional {
+            return vs.iter().map(|v| self.conditional_inverse_of(s, v)).collect();
+        }
+        self.grid.inverse_many(&self.def, s, vs, &self.levels)
+    }
+
     /// F(s).
     pub fn marginal_cdf_of(&self, s: &T) -> T {
         if self.closed.marginal

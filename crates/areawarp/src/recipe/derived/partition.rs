@@ -3,7 +3,7 @@
 //! resolved *relative to itself* wherever it matters (see [`Settings`]).
 
 use crate::real::Real;
-use crate::recipe::chebyshev::{ChebyshevLevels, LEVELS, TAIL_ULPS, local, tail};
+use crate::recipe::chebyshev::{ChebyshevLevel, ChebyshevLevels, LEVELS, TAIL_ULPS, local, tail};
 
 /// A density sampled on one panel `[a, b]` at the Chebyshev points of its
 /// level, with the interpolant's coefficients.
@@ -61,9 +61,47 @@ impl<T: Real> PanelFit<T> {
     }
 }
 
+/// The interpolant through `values` at the level's nodes on `[a, b]`:
+/// coefficients (at the nodes' actual positions), scale, floor and tail.
+fn interpolant<T: Real>(
+    level: &ChebyshevLevel<T>,
+    values: &[T],
+    a: &T,
+    b: &T,
+) -> (Vec<T>, T, T, T, bool) {
+    let n = level.n;
+    let half = (b.clone() - a) / &T::from_i64(2);
+    let inv_width = T::one() / &(b.clone() - a);
+    let finite = values.iter().all(|v| v.is_finite());
+    let mut scale = T::zero();
+    let mut floor = T::max_value();
+    for v in values {
+        scale = scale.max(&v.abs());
+        floor = floor.min(&v.abs());
+    }
+    let mut coeffs = vec![T::zero(); n];
+    if finite {
+        let xi: Vec<T> = (0..n)
+            .map(|k| local(&level.node(a, b, &half, k), a, b, &inv_width))
+            .collect();
+        if level.nodes_exact(&xi) {
+            level.coefficients_into(values, &mut coeffs);
+        } else {
+            let mut work = vec![T::zero(); 2 * n];
+            level.coefficients_at(values, &xi, &mut coeffs, &mut work);
+        }
+    }
+    let tail_now = if finite { tail(&coeffs, &scale) } else { T::max_value() };
+    (coeffs, scale, floor, tail_now, finite)
+}
+
 /// Samples `f` on `[a, b]` at 5, 9, 17, … Chebyshev points (reusing the
 /// values of the coarser level) until the interpolant is resolved or the
-/// type's largest level is reached; starts at `start_n` points.
+/// type's largest level is reached; starts at `start_n` points and stops
+/// after `stop_n`. An accepted interpolant is then replaced by the coarsest
+/// nested one (every other value, recursively) that is no worse, so that
+/// looking at many points to find no structure does not make the panel
+/// expensive to evaluate.
 pub(crate) fn fit_panel<T: Real>(
     f: &mut dyn FnMut(&T) -> T,
     a: &T,
@@ -73,9 +111,8 @@ pub(crate) fn fit_panel<T: Real>(
     evaluations: &mut usize,
 ) -> PanelFit<T> {
     let half = (b.clone() - a) / &T::from_i64(2);
-    let inv_width = T::one() / &(b.clone() - a);
     let mut values: Vec<T> = Vec::new();
-    let mut fit = None;
+    let mut fit: Option<PanelFit<T>> = None;
     let mut previous: Option<T> = None;
     for level in &levels.levels {
         if level.n < start_n.min(stop_n) {
@@ -85,46 +122,19 @@ pub(crate) fn fit_panel<T: Real>(
             break;
         }
         let n = level.n;
-        let new_values: Vec<T> = if values.is_empty() {
-            (0..n)
-                .map(|k| {
+        let new_values: Vec<T> = (0..n)
+            .map(|k| {
+                if !values.is_empty() && k % 2 == 0 {
+                    values[k / 2].clone()
+                } else {
                     *evaluations += 1;
                     f(&level.node(a, b, &half, k))
-                })
-                .collect()
-        } else {
-            (0..n)
-                .map(|k| {
-                    if k % 2 == 0 {
-                        values[k / 2].clone()
-                    } else {
-                        *evaluations += 1;
-                        f(&level.node(a, b, &half, k))
-                    }
-                })
-                .collect()
-        };
+                }
+            })
+            .collect();
         values = new_values;
-        let finite = values.iter().all(|v| v.is_finite());
-        let mut scale = T::zero();
-        let mut floor = T::max_value();
-        for v in &values {
-            scale = scale.max(&v.abs());
-            floor = floor.min(&v.abs());
-        }
-        let mut coeffs = vec![T::zero(); n];
-        if finite {
-            let xi: Vec<T> = (0..n)
-                .map(|k| local(&level.node(a, b, &half, k), a, b, &inv_width))
-                .collect();
-            if level.nodes_exact(&xi) {
-                level.coefficients_into(&values, &mut coeffs);
-            } else {
-                let mut work = vec![T::zero(); 2 * n];
-                level.coefficients_at(&values, &xi, &mut coeffs, &mut work);
-            }
-        }
-        let tail_now = if finite { tail(&coeffs, &scale) } else { T::max_value() };
+        let (coeffs, scale, floor, tail_now, finite) = interpolant(level, &values, a, b);
+        let clean = tail_now <= T::from_i64(TAIL_ULPS) * &T::unit_roundoff();
         let ok = finite && accept(&tail_now, previous.as_ref(), n);
         previous = Some(tail_now.clone());
         fit = Some(PanelFit {
@@ -138,6 +148,36 @@ pub(crate) fn fit_panel<T: Real>(
             tail: tail_now,
             resolved: ok,
         });
+        if ok {
+            // The coarsest nested level that is no worse: still clean, or
+            // for a fit accepted at a noise plateau, within twice its tail
+            // (a constant plus noise needs 5 points, not 33).
+            let allowed = if clean {
+                T::from_i64(TAIL_ULPS) * &T::unit_roundoff()
+            } else {
+                let current = fit.as_ref().map_or_else(T::zero, |f| f.tail.clone());
+                current * &T::from_i64(2)
+            };
+            while let Some(current) = fit.as_ref().filter(|f| f.n > LEVELS[0]) {
+                let coarse: Vec<T> = current.values.iter().step_by(2).cloned().collect();
+                let level = levels.level(coarse.len());
+                let (c, sc, fl, t, _) = interpolant(level, &coarse, a, b);
+                if t > allowed {
+                    break;
+                }
+                fit = Some(PanelFit {
+                    a: a.clone(),
+                    b: b.clone(),
+                    n: coarse.len(),
+                    values: coarse,
+                    coeffs: c,
+                    scale: sc,
+                    floor: fl,
+                    tail: t,
+                    resolved: true,
+                });
+            }
+        }
         if ok || !finite {
             break;
         }
@@ -159,15 +199,19 @@ pub(crate) struct Settings<T> {
     pub ratio: T,
     /// Node count to start at.
     pub start_n: usize,
+    /// Panels to start from (a power of 2): more catch narrower peaks.
+    pub start_panels: i64,
 }
 
 impl<T: Real> Settings<T> {
-    /// The defaults for `T`: min width 2^-(p/8 + 14), ratio 8, 5 points.
+    /// The defaults for `T`: min width 2^-(p/8 + 14), ratio 8, starting
+    /// from 16 panels of 17 points.
     pub fn for_type() -> Self {
         Settings {
             min_width: T::exp2i(-((T::precision() / 8) as i32 + 14)),
             ratio: T::from_i64(8),
-            start_n: LEVELS[0],
+            start_n: 17,
+            start_panels: 16,
         }
     }
 }
@@ -198,34 +242,33 @@ pub(crate) fn adaptive_partition<T: Real>(
     let mut evaluations = 0;
     let mut fits = Vec::new();
     let mut all_resolved = true;
-    // A coarse estimate of ∫f (16 panels of 17 points): an underestimate
-    // (a peak between the points) only makes fewer panels negligible.
-    let sixteenth = T::from_ratio(1, 16);
+    // Pass 1 starts from 16 panels of 17 points (by default) (a single coarse panel could
+    // see only zeros around a narrow peak, as for a von Mises–Fisher lobe of
+    // κ = 10⁴); their integrals also give a coarse estimate of ∫f, against
+    // which panels too small to matter are not refined for resolution (an
+    // underestimate, from a peak between the points, only makes fewer
+    // panels negligible).
+    let count = settings.start_panels;
+    let mut coarse_fits = Vec::with_capacity(count as usize);
     let mut coarse = T::zero();
-    for i in 0..16 {
-        let a = T::from_ratio(i, 16);
-        let b = a.clone() + &sixteenth;
-        let fit = fit_panel(f, &a, &b, levels, (17, 17), &mut evaluations);
+    for i in 0..count {
+        let a = T::from_ratio(i, count);
+        let b = T::from_ratio(i + 1, count);
+        let range = (settings.start_n, usize::MAX);
+        let fit = fit_panel(f, &a, &b, levels, range, &mut evaluations);
         coarse += &fit.integral(levels).abs();
+        coarse_fits.push(fit);
     }
     let coarse_negligible = T::unit_roundoff().square() * &coarse;
-    let first = fit_panel(
-        f,
-        &T::zero(),
-        &T::one(),
-        levels,
-        (settings.start_n, usize::MAX),
-        &mut evaluations,
-    );
     // Pass 1: resolution.
-    let mut stack = vec![first];
+    let mut stack: Vec<PanelFit<T>> = coarse_fits.into_iter().rev().collect();
     while let Some(fit) = stack.pop() {
         let width = fit.b.clone() - &fit.a;
         let negligible = fit.scale.clone() * &width <= coarse_negligible;
         if fit.resolved || negligible || width <= settings.min_width {
             fits.push(fit);
         } else {
-            let (l, r) = split(f, &fit, levels, settings, &mut evaluations);
+            let (l, r) = split(f, &fit, levels, &mut evaluations);
             stack.push(r);
             stack.push(l);
         }
@@ -247,7 +290,7 @@ pub(crate) fn adaptive_partition<T: Real>(
         let matters = fit.scale.clone() * &width > negligible;
         let steep = matters && fit.scale > settings.ratio.clone() * &fit.floor;
         if splittable && ((matters && !fit.resolved) || steep) {
-            let (l, r) = split(f, &fit, levels, settings, &mut evaluations);
+            let (l, r) = split(f, &fit, levels, &mut evaluations);
             stack.push(r);
             stack.push(l);
         } else {
@@ -266,15 +309,16 @@ pub(crate) fn adaptive_partition<T: Real>(
     }
 }
 
+/// Splits at the midpoint and fits both halves (starting at 5 points: a
+/// half of a panel seen at 17 or more points hides no new structure).
 fn split<T: Real>(
     f: &mut dyn FnMut(&T) -> T,
     fit: &PanelFit<T>,
     levels: &ChebyshevLevels<T>,
-    settings: &Settings<T>,
     evaluations: &mut usize,
 ) -> (PanelFit<T>, PanelFit<T>) {
     let mid = (fit.a.clone() + &fit.b) / &T::from_i64(2);
-    let range = (settings.start_n, usize::MAX);
+    let range = (LEVELS[0], usize::MAX);
     let l = fit_panel(f, &fit.a, &mid, levels, range, evaluations);
     let r = fit_panel(f, &mid, &fit.b, levels, range, evaluations);
     (l, r)
@@ -291,8 +335,9 @@ mod tests {
         let mut f = |s: &f64| s * (1.0 + s);
         let p = adaptive_partition(&mut f, &levels, &settings);
         assert!(p.resolved);
-        // [0, 2^-20], [2^-20, 2^-19], …, [1/2, 1]: 21 panels.
-        assert_eq!(p.fits.len(), 21, "{:?}", p.fits.iter().map(|f| f.a).collect::<Vec<_>>());
+        // [0, 2^-20], [2^-20, 2^-19], …, [1/32, 1/16] (17 panels), then the
+        // 15 starting panels [k/16, (k+1)/16]: 32 panels.
+        assert_eq!(p.fits.len(), 32, "{:?}", p.fits.iter().map(|f| f.a).collect::<Vec<_>>());
         assert_eq!(p.fits[0].b, 2f64.powi(-20));
         let total: f64 = p.fits.iter().map(|f| f.integral(&levels)).sum();
         assert!((total - (0.5 + 1.0 / 3.0)).abs() < 1e-15);

@@ -20,8 +20,8 @@
 //! The tolerance is on s = F⁻¹(u) and on t = G_s⁻¹(v) (absolute, in the
 //! parameters of φ); the error *claimed* is what the construction saw at its
 //! check points, the error *certified* is measured against the derived warp
-//! at 256 bits on a dense set of points by [`measure_error`] (feature
-//! `mpfr`). Closed-form inverses of the definition, if any, are used instead
+//! at 256 bits (feature `mpfr`) on a dense set of points by
+//! [`measure_error`]. Closed-form inverses of the definition, if any, are used instead
 //! of a table.
 
 mod poly;
@@ -144,7 +144,7 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
         let conditional = if def.conditional_inverse_closed(&half, &half).is_some() {
             None
         } else {
-            let mut g = |s: &T, v: &T| recipe.conditional_inverse_of(s, v);
+            let mut g = |s: &T, vs: &[T]| recipe.conditional_inverse_many(s, vs);
             let (table, stats) = Table2::fit(&mut g, degree, &tol, &min_width)?;
             report.conditional_cells = stats.panels;
             report.evaluations += stats.evaluations;
@@ -296,7 +296,6 @@ impl<T: Real, P: WarpDefinition<T>> WarpFamily<T> for TabulatedWarp<T, P> {
 }
 
 /// The error of a table, measured against the derived warp at 256 bits.
-#[cfg(feature = "mpfr")]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MeasuredError {
     /// max |F̃⁻¹(u) − F⁻¹(u)|.
@@ -311,7 +310,6 @@ pub struct MeasuredError {
     pub non_finite: usize,
 }
 
-#[cfg(feature = "mpfr")]
 impl MeasuredError {
     /// max(marginal, conditional): the error the tolerance bounds.
     pub fn inverse(&self) -> f64 {
@@ -320,18 +318,14 @@ impl MeasuredError {
 }
 
 /// Measures the table `table` (in its own scalar `T`, inputs rounded to
-/// `T`) against `exact`, the same definition derived at 256 bits, on
-/// `points`: the errors of F̃⁻¹, of G̃⁻¹ and of the mapped points.
-///
-/// # Errors
-/// The definition cannot be rebuilt at 256 bits.
-#[cfg(feature = "mpfr")]
-pub fn measure_error<T: Real, P: WarpDefinition<T>>(
+/// `T`) against `exact`, the same definition derived in a reference scalar
+/// `M` (256-bit MPFR for the certificate), on `points`: the errors of F̃⁻¹,
+/// of G̃⁻¹ and of the mapped points.
+pub fn measure_error<T: Real, M: Real, P: WarpDefinition<T>>(
     table: &TabulatedWarp<T, P>,
-    exact: &DerivedWarp<crate::real::Mpfr256, P::At<crate::real::Mpfr256>>,
+    exact: &DerivedWarp<M, P::At<M>>,
     points: &[(f64, f64)],
 ) -> MeasuredError {
-    use crate::real::Mpfr256 as M;
     let mut out = MeasuredError {
         points: points.len(),
         ..MeasuredError::default()

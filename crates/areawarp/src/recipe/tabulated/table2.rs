@@ -67,10 +67,11 @@ enum CellFit<T> {
 }
 
 impl<T: Real> Table2<T> {
-    /// Fits `g(s, v)` (for each s monotone in v, [0,1] → [0,1]) to absolute
-    /// error `tol`/4 at the check points of every cell.
+    /// Fits `g(s, v)` (for each s monotone in v, [0,1] → [0,1]; `g(s, vs)`
+    /// returns it at every v of `vs`) to absolute error `tol`/4 at the check
+    /// points of every cell.
     pub fn fit(
-        g: &mut dyn FnMut(&T, &T) -> T,
+        g: &mut dyn FnMut(&T, &[T]) -> Vec<T>,
         degree: usize,
         tol: &T,
         min_width: &T,
@@ -159,7 +160,7 @@ impl<T: Real> Table2<T> {
     /// Fits one cell and judges it: the v-direction at (s-nodes × v-checks),
     /// the s-direction at (s-checks × v-nodes).
     fn fit_cell(
-        g: &mut dyn FnMut(&T, &T) -> T,
+        g: &mut dyn FnMut(&T, &[T]) -> Vec<T>,
         basis: &Basis<T>,
         (a, b, s_iw, s_nodes, s_checks): (&T, &T, &T, &[T], &[T]),
         (c, e, v_iw, v_nodes, v_checks): (&T, &T, &T, &[T], &[T]),
@@ -170,7 +171,7 @@ impl<T: Real> Table2<T> {
         // Values at the node grid: rows over s, columns over v.
         let mut rows: Vec<Vec<T>> = Vec::with_capacity(d1);
         for s in s_nodes {
-            rows.push(v_nodes.iter().map(|v| g(s, v)).collect());
+            rows.push(g(s, v_nodes));
         }
         stats.evaluations += d1 * d1;
         // Interpolate at the nodes' actual local coordinates: in v per row,
@@ -190,8 +191,8 @@ impl<T: Real> Table2<T> {
         };
         let mut err_v = T::zero();
         for s in s_nodes {
-            for v in v_checks {
-                err_v = err_v.max(&(approx(s, v) - &g(s, v)).abs());
+            for (v, exact) in v_checks.iter().zip(g(s, v_checks)) {
+                err_v = err_v.max(&(approx(s, v) - &exact).abs());
             }
         }
         stats.evaluations += d1 * v_checks.len();
@@ -201,9 +202,10 @@ impl<T: Real> Table2<T> {
         let mut err_s = T::zero();
         // Not at s = 0 or 1 themselves: there σw may vanish identically (a
         // pole, every t the same point) and G_s is undefined.
+        let all_v: Vec<T> = v_nodes.iter().chain(v_checks).cloned().collect();
         for s in s_checks.iter().filter(|s| **s > T::zero() && **s < T::one()) {
-            for v in v_nodes.iter().chain(v_checks) {
-                err_s = err_s.max(&(approx(s, v) - &g(s, v)).abs());
+            for (v, exact) in all_v.iter().zip(g(s, &all_v)) {
+                err_s = err_s.max(&(approx(s, v) - &exact).abs());
             }
         }
         stats.evaluations += s_checks.len() * (v_nodes.len() + v_checks.len());
