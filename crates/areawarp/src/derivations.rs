@@ -6,7 +6,8 @@
 //!
 //! | page | shape |
 //! |---|---|
-//! | [`recipe`] | Arvo's five-step recipe and which trait is which. |
+//! | [`recipe`] | Arvo's five-step recipe and which trait is which; warps derived from φ and w alone, and what they cost. |
+//! | [`recipe_quadrature`] | Steps 2–4 executed: the adaptive quadrature, the inversion and the tabulated inverses, with their error control. |
 //! | [`planar_triangle`] | The planar triangle. |
 //! | [`disk`] | The polar and concentric disks. |
 //! | [`hemisphere`] | The uniform hemisphere. |
@@ -26,6 +27,9 @@
 
 #[doc = include_str!("../docs/recipe.md")]
 pub mod recipe {}
+
+#[doc = include_str!("../docs/recipe-quadrature.md")]
+pub mod recipe_quadrature {}
 
 #[doc = include_str!("../docs/planar-triangle.md")]
 pub mod planar_triangle {}
