@@ -19,7 +19,7 @@
 use areawarp::recipe::definitions::{Cap, Disk, Ggx, Hemisphere, Phong, Sphere, VonMisesFisher};
 use areawarp::recipe::{DerivedWarp, TabulatedWarp, WarpDefinition};
 use areawarp::shapes;
-use areawarp::{Real, Warp, WarpFamily};
+use areawarp::{Coords, Real, Warp, WarpFamily};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
@@ -44,10 +44,10 @@ fn batch<T: Real>() -> Vec<(T, T)> {
 }
 
 /// Maps the batch, summing the coordinates so nothing is optimized away.
-fn map_all<T: Real, W: Warp<T, Point = areawarp::Vec3<T>>>(w: &W, pts: &[(T, T)]) -> T {
+fn map_all<T: Real, W: Warp<T>>(w: &W, pts: &[(T, T)]) -> T {
     let mut acc = T::zero();
     for (u, v) in pts {
-        let p = w.map(u, v);
+        let p = w.map(u, v).to_vec3();
         acc += &(p.x + &p.y + &p.z);
     }
     acc
@@ -56,13 +56,15 @@ fn map_all<T: Real, W: Warp<T, Point = areawarp::Vec3<T>>>(w: &W, pts: &[(T, T)]
 fn derived_vs_closed<P, C>(c: &mut Criterion, name: &str, def: P, closed: C)
 where
     P: WarpDefinition<f64>,
-    C: Warp<f64, Point = areawarp::Vec3<f64>>,
+    C: Warp<f64>,
 {
     let pts = batch::<f64>();
     let derived = DerivedWarp::new(def.clone()).expect("derivable");
     let mut g = c.benchmark_group(format!("derived/{name}"));
     g.throughput(Throughput::Elements(N as u64));
-    g.bench_function("closed_form", |b| b.iter(|| black_box(map_all(&closed, &pts))));
+    g.bench_function("closed_form", |b| {
+        b.iter(|| black_box(map_all(&closed, &pts)))
+    });
     g.bench_function("derived", |b| b.iter(|| black_box(map_all(&derived, &pts))));
     g.throughput(Throughput::Elements(1));
     g.bench_function("construction", |b| {
@@ -72,7 +74,12 @@ where
 }
 
 fn derived(c: &mut Criterion) {
-    derived_vs_closed(c, "hemisphere", Hemisphere::new(), shapes::Hemisphere::new());
+    derived_vs_closed(
+        c,
+        "hemisphere",
+        Hemisphere::new(),
+        shapes::Hemisphere::new(),
+    );
     for k in [1.0, 10.0, 1000.0] {
         derived_vs_closed(
             c,
@@ -81,33 +88,11 @@ fn derived(c: &mut Criterion) {
             shapes::PhongLobe::new(k).expect("k"),
         );
     }
-    derived_vs_closed(c, "disk", Disk::new(), DiskAs3d(shapes::PolarDisk::new()));
+    derived_vs_closed(c, "disk", Disk::new(), shapes::PolarDisk::new());
     derived_vs_closed(c, "sphere", Sphere::new(), shapes::Sphere::new());
     let cap = Cap::new(1.0).expect("angle");
     let closed_cap = DerivedWarp::new(cap.clone().with_closed_forms()).expect("closed");
     derived_vs_closed(c, "cap_1rad", cap, closed_cap);
-}
-
-/// The planar disk with its points as `Vec3` (z = 0), to share `map_all`.
-struct DiskAs3d(shapes::PolarDisk<f64>);
-
-impl Warp<f64> for DiskAs3d {
-    type Point = areawarp::Vec3<f64>;
-    fn map(&self, u: &f64, v: &f64) -> areawarp::Vec3<f64> {
-        self.0.map(u, v).to_vec3()
-    }
-    fn pdf(&self, _p: &areawarp::Vec3<f64>) -> f64 {
-        1.0 / std::f64::consts::PI
-    }
-    fn measure(&self) -> f64 {
-        self.0.measure()
-    }
-    fn inverse(&self, p: &areawarp::Vec3<f64>) -> Option<(f64, f64)> {
-        self.0.inverse(&areawarp::Vec2::new(p.x, p.y))
-    }
-    fn outside_by(&self, _p: &areawarp::Vec3<f64>) -> f64 {
-        0.0
-    }
 }
 
 /// The tolerances of the dial.
@@ -119,7 +104,9 @@ fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
     let derived = DerivedWarp::new(def).expect("derivable");
     let mut g = c.benchmark_group(format!("dial/{name}"));
     g.throughput(Throughput::Elements(N as u64));
-    g.bench_function("derived_f64", |b| b.iter(|| black_box(map_all(&derived, &p64))));
+    g.bench_function("derived_f64", |b| {
+        b.iter(|| black_box(map_all(&derived, &p64)))
+    });
     for tol in TOLERANCES {
         let t64 = TabulatedWarp::new(&derived, tol).expect("tabulated");
         let t32 = t64.at::<f32>().expect("f32 table");
@@ -141,7 +128,11 @@ fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
 fn dial(c: &mut Criterion) {
     dial_for(c, "cap_0.5rad", Cap::new(0.5).expect("angle"));
     for alpha in [0.5, 0.01] {
-        dial_for(c, &format!("ggx_alpha{alpha}"), Ggx::new(alpha).expect("alpha"));
+        dial_for(
+            c,
+            &format!("ggx_alpha{alpha}"),
+            Ggx::new(alpha).expect("alpha"),
+        );
     }
     for kappa in [1.0, 100.0, 1e4] {
         dial_for(

@@ -76,8 +76,13 @@ impl<T: Real> Parametrization<T> for CosineCap<T> {
         let (x, y, z) = (p.dot(&self.e1), p.dot(&self.e2), p.dot(&self.axis));
         let theta = x.hypot(&y).atan2(&z);
         let turns = y.atan2(&x) / &(T::pi() * &T::from_i64(2));
-        let t = if turns < T::zero() { turns + &T::one() } else { turns };
-        p.is_finite().then(|| (theta / &self.theta_max, t.min(&T::one())))
+        let t = if turns < T::zero() {
+            turns + &T::one()
+        } else {
+            turns
+        };
+        p.is_finite()
+            .then(|| (theta / &self.theta_max, t.min(&T::one())))
     }
 }
 
@@ -191,7 +196,9 @@ fn main() {
         println!("  {}", if ok { "PASS" } else { "FAIL" });
     }
     if !full {
-        println!("\n(run with --256 for the Jacobian and the precision at 256 bits: minutes per cap)");
+        println!(
+            "\n(run with --256 for the Jacobian and the precision at 256 bits: minutes per cap)"
+        );
     }
     if !ok {
         eprintln!("some check failed");

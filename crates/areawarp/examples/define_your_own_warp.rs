@@ -66,8 +66,13 @@ impl<T: Real> Parametrization<T> for Cap<T> {
     fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
         let theta = p.x.hypot(&p.y).atan2(&p.z);
         let turns = p.y.atan2(&p.x) / &(T::pi() * &T::from_i64(2));
-        let t = if turns < T::zero() { turns + &T::one() } else { turns };
-        p.is_finite().then(|| (theta / &self.theta_max, t.min(&T::one())))
+        let t = if turns < T::zero() {
+            turns + &T::one()
+        } else {
+            turns
+        };
+        p.is_finite()
+            .then(|| (theta / &self.theta_max, t.min(&T::one())))
     }
 }
 

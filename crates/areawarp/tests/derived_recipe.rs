@@ -73,7 +73,10 @@ where
             j.max_rel_deviation, j.nudged
         )),
     );
-    assert!(vs_256 <= ULPS_BOUND, "{name}: {vs_256} ulps against the closed form");
+    assert!(
+        vs_256 <= ULPS_BOUND,
+        "{name}: {vs_256} ulps against the closed form"
+    );
     if let Some(j) = jac {
         assert!(j.passes(JACOBIAN_BOUND), "{name}: {j:?}");
     }
@@ -89,7 +92,12 @@ fn header() {
 #[test]
 fn derived_warps_are_exact_and_match_the_closed_forms() {
     header();
-    check("hemisphere", Hemisphere::new(), shapes::Hemisphere::new(), true);
+    check(
+        "hemisphere",
+        Hemisphere::new(),
+        shapes::Hemisphere::new(),
+        true,
+    );
     check("disk", Disk::new(), shapes::PolarDisk::new(), true);
     check("sphere", Sphere::new(), shapes::Sphere::new(), true);
     let cap = Cap::new(1.0).unwrap();
@@ -97,7 +105,12 @@ fn derived_warps_are_exact_and_match_the_closed_forms() {
     check("cap θ_max = 1", cap, closed, true);
     for k in [1.0, 10.0, 1000.0] {
         let name = format!("Phong k = {k}");
-        check(&name, Phong::new(k).unwrap(), shapes::PhongLobe::new(k).unwrap(), false);
+        check(
+            &name,
+            Phong::new(k).unwrap(),
+            shapes::PhongLobe::new(k).unwrap(),
+            false,
+        );
     }
 }
 
@@ -107,9 +120,20 @@ fn derived_warps_jacobians_at_256_bits() {
     header();
     for k in [1.0, 10.0, 1000.0] {
         let name = format!("Phong k = {k}");
-        check(&name, Phong::new(k).unwrap(), shapes::PhongLobe::new(k).unwrap(), true);
+        check(
+            &name,
+            Phong::new(k).unwrap(),
+            shapes::PhongLobe::new(k).unwrap(),
+            true,
+        );
     }
-    for theta in [0.05, std::f64::consts::FRAC_PI_3, 2.5, 3.0, std::f64::consts::PI] {
+    for theta in [
+        0.05,
+        std::f64::consts::FRAC_PI_3,
+        2.5,
+        3.0,
+        std::f64::consts::PI,
+    ] {
         let cap = Cap::new(theta).unwrap();
         let closed = DerivedWarp::new(cap.clone().with_closed_forms()).unwrap();
         check(&format!("cap θ_max = {theta:.4}"), cap, closed, true);
@@ -125,7 +149,14 @@ fn closed_forms_override_the_derived_steps() {
     let closed = DerivedWarp::new(cap.clone().with_closed_forms()).unwrap();
     let derived = DerivedWarp::new(cap).unwrap();
     let area = 4.0 * std::f64::consts::PI * (0.35f64).sin().powi(2);
-    assert_eq!(closed.measure(), Cap::new(0.7).unwrap().with_closed_forms().measure_closed().unwrap());
+    assert_eq!(
+        closed.measure(),
+        Cap::new(0.7)
+            .unwrap()
+            .with_closed_forms()
+            .measure_closed()
+            .unwrap()
+    );
     assert!((derived.measure() / area - 1.0).abs() < 1e-15);
     for (u, v) in random_points(100, 5) {
         let (s, t) = closed.warp_coordinates(&u, &v);
@@ -205,7 +236,7 @@ fn derived_warp_inverts_composes_and_runs_in_f32() {
     assert!(rt.max_image_ulps <= 16.0, "{rt:?}");
     // Off the shape: no inverse, zero density.
     let below = Vec3::new(0.0, 0.6, -0.8);
-    assert!(w.inverse(&below).is_none());
+    assert!(w.inverse(&below).is_err());
     assert_eq!(w.pdf(&below), 0.0);
     // The derived recipe composes with the generic inverters.
     let recipe = DerivedRecipe::new(Phong::new(10.0).unwrap()).unwrap();
@@ -222,7 +253,10 @@ fn derived_warp_inverts_composes_and_runs_in_f32() {
         assert!(p.z >= 0.0);
     }
     let r = w32.recipe().report();
-    assert!(r.s_tail < 1e-5 && (r.measure - 2.0 * std::f64::consts::PI / 11.0).abs() < 1e-6, "{r:?}");
+    assert!(
+        r.s_tail < 1e-5 && (r.measure - 2.0 * std::f64::consts::PI / 11.0).abs() < 1e-6,
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -234,12 +268,21 @@ fn derived_measures_are_exact_at_256_bits() {
     let k = Mpfr256::from_i64(10);
     let cases: [(Mpfr256, Mpfr256); 3] = [
         (
-            DerivedRecipe::new(Phong::new(k.clone()).unwrap()).unwrap().measure(),
+            DerivedRecipe::new(Phong::new(k.clone()).unwrap())
+                .unwrap()
+                .measure(),
             pi.clone() * &Mpfr256::from_i64(2) / &(k + &Mpfr256::one()),
         ),
-        (DerivedRecipe::new(Disk::<Mpfr256>::new()).unwrap().measure(), pi.clone()),
         (
-            DerivedRecipe::new(Sphere::<Mpfr256>::new()).unwrap().measure(),
+            DerivedRecipe::new(Disk::<Mpfr256>::new())
+                .unwrap()
+                .measure(),
+            pi.clone(),
+        ),
+        (
+            DerivedRecipe::new(Sphere::<Mpfr256>::new())
+                .unwrap()
+                .measure(),
             pi * &Mpfr256::from_i64(4),
         ),
     ];

@@ -60,6 +60,8 @@ impl Tally {
             WarpError::Degenerate { what } => format!("degenerate: {what}"),
             WarpError::Unrepresentable { what } => format!("unrepresentable: {what}"),
             WarpError::InvalidParameter { name, .. } => format!("invalid {name}"),
+            WarpError::NotConverged { what } => format!("not converged: {what}"),
+            WarpError::Inconsistent { what } => format!("inconsistent: {what}"),
         };
         *self.rejected.entry(key).or_default() += 1;
     }

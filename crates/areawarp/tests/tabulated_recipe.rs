@@ -46,12 +46,8 @@ fn measure<P: WarpDefinition<f64>>(
     let m64 = measure_error(&table, exact, pts);
     let t32 = table.at::<f32>().expect("f32 table");
     // The f32 table against the same shape as f32 sees it, at 256 bits.
-    let exact32 = DerivedWarp::new(
-        t32.definition()
-            .recast::<Mpfr256>()
-            .expect("256 bits"),
-    )
-    .expect("derived");
+    let exact32 =
+        DerivedWarp::new(t32.definition().recast::<Mpfr256>().expect("256 bits")).expect("derived");
     let m32 = measure_error(&t32, &exact32, pts);
     (table, m64, m32)
 }
@@ -139,7 +135,9 @@ fn invalid_tables_are_refused() {
 }
 
 /// The tolerances of the dial.
-const TOLERANCES: [f64; 10] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12];
+const TOLERANCES: [f64; 10] = [
+    1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12,
+];
 
 fn dial<P: WarpDefinition<f64>>(name: &str, def: P) {
     let derived = DerivedWarp::new(def.clone()).expect("derived");
@@ -158,13 +156,13 @@ fn dial<P: WarpDefinition<f64>>(name: &str, def: P) {
             m64.points
         );
         assert_eq!(m64.non_finite + m32.non_finite, 0);
-        assert!(
-            m64.inverse() <= tol,
-            "{name}, tol {tol}: measured {m64:?}"
-        );
+        assert!(m64.inverse() <= tol, "{name}, tol {tol}: measured {m64:?}");
         // The f32 table adds f32's own rounding (about 2^-24 of s and t).
         let f32_floor = 8.0 * f64::from(f32::EPSILON);
-        assert!(m32.inverse() <= tol.max(f32_floor), "{name} f32, tol {tol}: {m32:?}");
+        assert!(
+            m32.inverse() <= tol.max(f32_floor),
+            "{name} f32, tol {tol}: {m32:?}"
+        );
         let _ = convert::<f64, f32>(&tol);
     }
 }

@@ -79,8 +79,8 @@ impl<T: Real> ChebyshevLevel<T> {
             let mut acc = T::zero();
             let mut j = 0;
             while j < n {
-                let mut term = T::from_ratio(2, 1 - (j as i64) * (j as i64))
-                    * &cos[(j * k) % (2 * (n - 1))];
+                let mut term =
+                    T::from_ratio(2, 1 - (j as i64) * (j as i64)) * &cos[(j * k) % (2 * (n - 1))];
                 if j == 0 || j == n - 1 {
                     term /= &T::from_i64(2);
                 }
@@ -135,7 +135,9 @@ impl<T: Real> ChebyshevLevel<T> {
         let two_over_n = T::from_ratio(2, (n - 1) as i64);
         let half = T::from_ratio(1, 2);
         for (j, c) in out.iter_mut().enumerate().take(n) {
-            let mut acc = (values[0].clone() + &(values[n - 1].clone() * &self.cos[(j * (n - 1)) % period])) * &half;
+            let mut acc = (values[0].clone()
+                + &(values[n - 1].clone() * &self.cos[(j * (n - 1)) % period]))
+                * &half;
             for (k, v) in values.iter().enumerate().take(n - 1).skip(1) {
                 acc += &(v.clone() * &self.cos[(j * k) % period]);
             }

@@ -13,13 +13,13 @@
 use super::{AreaDensity, Parametrization, WarpDefinition};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
-use crate::shapes::turns::{cos_sin_turns, turns_of};
+use crate::shapes::turns::{polar_turns, turns_of};
 use crate::vector::Vec3;
 
 /// (sin θ cos 2πt, sin θ sin 2πt, cos θ).
 fn spherical<S: Real>(sin_theta: S, cos_theta: S, t: &S, half_pi: &S) -> Vec3<S> {
-    let (c, s) = cos_sin_turns(t, half_pi);
-    Vec3::new(sin_theta.clone() * &c, sin_theta * &s, cos_theta)
+    let (x, y) = polar_turns(&sin_theta, t, half_pi);
+    Vec3::new(x, y, cos_theta)
 }
 
 /// (sin πx, cos πx) for x ∈ [0, 1], through π(1 − x) above 1/2.
@@ -37,7 +37,10 @@ fn polar_chart<T: Real>(p: &Vec3<T>, inv_two_pi: &T) -> Option<(T, T)> {
     if !p.is_finite() {
         return None;
     }
-    Some((p.x.hypot(&p.y).atan2(&p.z), turns_of(&p.y, &p.x, inv_two_pi)))
+    Some((
+        p.x.hypot(&p.y).atan2(&p.z),
+        turns_of(&p.y, &p.x, inv_two_pi),
+    ))
 }
 
 /// Constants shared by the spherical definitions.
@@ -136,7 +139,13 @@ impl<T: Real> Parametrization<T> for Hemisphere<T> {
     }
 }
 
-spherical_definition!(Hemisphere, "hemisphere", [], |self, _p| T::one(), |self| Ok(Hemisphere::new()));
+spherical_definition!(
+    Hemisphere,
+    "hemisphere",
+    [],
+    |self, _p| T::one(),
+    |self| Ok(Hemisphere::new())
+);
 
 /// A Phong lobe, w = cos^k θ on the upper hemisphere, with φ in elevation
 /// (s = 0 the horizon, s = 1 the pole) as
@@ -176,13 +185,19 @@ impl<T: Real> Parametrization<T> for Phong<T> {
 
 // The weight of a point of the unit sphere: p.z itself, not p.z/|p|, so that
 // it does not pick up the rounding of |p| (which varies with t).
-spherical_definition!(Phong, "phong", [k], |self, p| {
-    if !(p.z > T::zero()) {
-        T::zero()
-    } else {
-        p.z.powf(&self.k)
-    }
-}, |self| Phong::new(convert(&self.k)));
+spherical_definition!(
+    Phong,
+    "phong",
+    [k],
+    |self, p| {
+        if !(p.z > T::zero()) {
+            T::zero()
+        } else {
+            p.z.powf(&self.k)
+        }
+    },
+    |self| Phong::new(convert(&self.k))
+);
 
 /// The unit disk in the plane z = 0, uniform: φ(s, t) = s (cos 2πt,
 /// sin 2πt, 0), as [`shapes::PolarDisk`](crate::shapes::PolarDisk).
@@ -208,18 +223,27 @@ impl<T: Real> Default for Disk<T> {
 
 impl<T: Real> Parametrization<T> for Disk<T> {
     fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
-        let (c, sn) = cos_sin_turns(t, &S::embed(&self.angles.half_pi));
-        Vec3::new(s.clone() * &c, s.clone() * &sn, S::zero())
+        let (x, y) = polar_turns(s, t, &S::embed(&self.angles.half_pi));
+        Vec3::new(x, y, S::zero())
     }
     fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
         if !p.is_finite() {
             return None;
         }
-        Some((p.x.hypot(&p.y), turns_of(&p.y, &p.x, &self.angles.inv_two_pi)))
+        Some((
+            p.x.hypot(&p.y),
+            turns_of(&p.y, &p.x, &self.angles.inv_two_pi),
+        ))
     }
 }
 
-spherical_definition!(Disk, "disk", [], |self, _p| T::one(), |self| Ok(Disk::new()));
+spherical_definition!(
+    Disk,
+    "disk",
+    [],
+    |self, _p| T::one(),
+    |self| Ok(Disk::new())
+);
 
 /// The unit sphere, uniform, in polar angle θ = πs (s = 0 the north pole,
 /// s = 1 the south pole): the same map as
@@ -256,7 +280,9 @@ impl<T: Real> Parametrization<T> for Sphere<T> {
     }
 }
 
-spherical_definition!(Sphere, "sphere", [], |self, _p| T::one(), |self| Ok(Sphere::new()));
+spherical_definition!(Sphere, "sphere", [], |self, _p| T::one(), |self| Ok(
+    Sphere::new()
+));
 
 /// The spherical cap {angle(p, +z) ≤ θ_max}, uniform: θ = θ_max·s.
 ///
@@ -377,7 +403,14 @@ impl<T: Real> Ggx<T> {
     /// # Errors
     /// [`WarpError::NonFinite`], [`WarpError::InvalidParameter`] outside (0, 1].
     pub fn new(alpha: T) -> Result<Self, WarpError> {
-        check(&alpha, "alpha", &T::zero(), &T::one(), true, "0 < alpha <= 1")?;
+        check(
+            &alpha,
+            "alpha",
+            &T::zero(),
+            &T::one(),
+            true,
+            "0 < alpha <= 1",
+        )?;
         Ok(Ggx {
             alpha2: alpha.square(),
             alpha,
@@ -395,17 +428,24 @@ impl<T: Real> Parametrization<T> for Ggx<T> {
     }
 }
 
-spherical_definition!(Ggx, "ggx", [alpha], |self, p| {
-    let n2 = p.norm_squared();
-    if !(p.z > T::zero()) || !(n2 > T::zero()) {
-        T::zero()
-    } else {
-        // With cos θ = z/|p|, sin² θ = (x² + y²)/|p|².
-        let rho2 = p.x.square() + &p.y.square();
-        let q = self.alpha2.clone() * &p.z.square() + &rho2;
-        self.alpha2.clone() * &p.z * &n2.sqrt() * &n2 / &(q.square() * &self.hemisphere.angles.pi)
-    }
-}, |self| Ggx::new(convert(&self.alpha)));
+spherical_definition!(
+    Ggx,
+    "ggx",
+    [alpha],
+    |self, p| {
+        let n2 = p.norm_squared();
+        if !(p.z > T::zero()) || !(n2 > T::zero()) {
+            T::zero()
+        } else {
+            // With cos θ = z/|p|, sin² θ = (x² + y²)/|p|².
+            let rho2 = p.x.square() + &p.y.square();
+            let q = self.alpha2.clone() * &p.z.square() + &rho2;
+            self.alpha2.clone() * &p.z * &n2.sqrt() * &n2
+                / &(q.square() * &self.hemisphere.angles.pi)
+        }
+    },
+    |self| Ggx::new(convert(&self.alpha))
+);
 
 /// The von Mises–Fisher distribution on the unit sphere about +z,
 /// w(p) = exp(κ (z − 1)) (peak 1), with z − 1 = −(x² + y²)/(1 + z) on the
@@ -422,7 +462,14 @@ impl<T: Real> VonMisesFisher<T> {
     /// # Errors
     /// [`WarpError::NonFinite`], [`WarpError::InvalidParameter`] for κ ≤ 0.
     pub fn new(kappa: T) -> Result<Self, WarpError> {
-        check(&kappa, "kappa", &T::zero(), &T::max_value(), true, "kappa > 0")?;
+        check(
+            &kappa,
+            "kappa",
+            &T::zero(),
+            &T::max_value(),
+            true,
+            "kappa > 0",
+        )?;
         Ok(VonMisesFisher {
             kappa,
             sphere: Sphere::new(),
@@ -439,16 +486,22 @@ impl<T: Real> Parametrization<T> for VonMisesFisher<T> {
     }
 }
 
-spherical_definition!(VonMisesFisher, "vmf", [kappa], |self, p| {
-    let n = p.norm();
-    if !(n > T::zero()) {
-        return T::zero();
-    }
-    let z = p.z.clone() / &n;
-    let z_minus_1 = if z > T::zero() {
-        -((p.x.square() + &p.y.square()) / &n.square()) / &(T::one() + &z)
-    } else {
-        z - &T::one()
-    };
-    (self.kappa.clone() * &z_minus_1).exp()
-}, |self| VonMisesFisher::new(convert(&self.kappa)));
+spherical_definition!(
+    VonMisesFisher,
+    "vmf",
+    [kappa],
+    |self, p| {
+        let n = p.norm();
+        if !(n > T::zero()) {
+            return T::zero();
+        }
+        let z = p.z.clone() / &n;
+        let z_minus_1 = if z > T::zero() {
+            -((p.x.square() + &p.y.square()) / &n.square()) / &(T::one() + &z)
+        } else {
+            z - &T::one()
+        };
+        (self.kappa.clone() * &z_minus_1).exp()
+    },
+    |self| VonMisesFisher::new(convert(&self.kappa))
+);

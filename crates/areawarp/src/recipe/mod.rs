@@ -33,12 +33,12 @@ pub mod tabulated;
 
 pub use compose::{Recipe, RecipeWarp};
 pub use definition::WarpDefinition;
-pub use derived::{DerivedRecipe, DerivedWarp, QuadratureReport};
-pub use tabulated::{TabulatedWarp, TabulationReport};
 pub use density::AreaDensity;
+pub use derived::{DerivedRecipe, DerivedWarp, QuadratureReport};
 pub use distribution::MarginalConditional;
 pub use invert::{
     Bisection, Cdf1, ClosedForm, Conditional, FittedCubic, Inversion, Inverter, Marginal, Newton,
     Start, Tolerance, VandermondeCubic,
 };
 pub use parametrization::Parametrization;
+pub use tabulated::{TabulatedWarp, TabulationReport};

@@ -170,7 +170,8 @@ impl<T: Real> ConditionalGrid<T> {
             }
             p.coefficients(levels, vals, &mut coeffs);
             let width = p.b.clone() - &p.a;
-            let allowed = (T::from_i64(TAIL_ULPS) * &T::unit_roundoff()).max(&(p.tail.clone() * &T::from_i64(4)));
+            let allowed = (T::from_i64(TAIL_ULPS) * &T::unit_roundoff())
+                .max(&(p.tail.clone() * &T::from_i64(4)));
             panel_scales.push((tail(&coeffs[..p.n], &scale) <= allowed, scale * &width));
         }
         let negligible = T::unit_roundoff().square() * &value.abs();
@@ -214,7 +215,9 @@ impl<T: Real> ConditionalGrid<T> {
         let get = |j: usize, buf: &mut [T]| -> T {
             if count == 1 && last_filled == 0 {
                 // The only panel's values are still in the buffer.
-                levels.level(self.panels[0].n).integral(&buf[..self.panels[0].n])
+                levels
+                    .level(self.panels[0].n)
+                    .integral(&buf[..self.panels[0].n])
                     * &self.panels[0].half
             } else {
                 self.values(def, s, j, levels, buf)
@@ -263,7 +266,13 @@ impl<T: Real> ConditionalGrid<T> {
 
     /// G_s⁻¹(v). Where Z(s) is not positive (a pole of φ, where every t
     /// gives the same point) it returns v.
-    pub fn inverse<D: AreaDensity<T>>(&self, def: &D, s: &T, v: &T, levels: &ChebyshevLevels<T>) -> T {
+    pub fn inverse<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        v: &T,
+        levels: &ChebyshevLevels<T>,
+    ) -> T {
         let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
         let (total, last) = self.total_with_values(def, s, levels, &mut buf);
         if !(total > T::zero()) || !total.is_finite() {
@@ -275,8 +284,12 @@ impl<T: Real> ConditionalGrid<T> {
         let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         p.coefficients(levels, &buf, &mut density);
-        let poly_mass =
-            integral_coefficients_into(&density[..p.n], &p.half, &mut left[..=p.n], &mut right[..=p.n]);
+        let poly_mass = integral_coefficients_into(
+            &density[..p.n],
+            &p.half,
+            &mut left[..=p.n],
+            &mut right[..=p.n],
+        );
         // One panel: its polynomial's own mass as Z, so that G_s(1) = 1 and a
         // constant density gives G_s(t) = t exactly.
         let (total, own) = if self.panels.len() == 1 {
@@ -371,7 +384,9 @@ impl<T: Real> ConditionalGrid<T> {
                     let target = (T::one() - v) * &total;
                     (0..count)
                         .rev()
-                        .find(|&j| j == 0 || after[j].clone() + &masses[j] >= target || !(*v < T::one()))
+                        .find(|&j| {
+                            j == 0 || after[j].clone() + &masses[j] >= target || !(*v < T::one())
+                        })
                         .unwrap_or(count - 1)
                 };
                 let p = &self.panels[j];
@@ -433,7 +448,12 @@ impl<T: Real> ConditionalGrid<T> {
             let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
             let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
             p.coefficients(levels, &buf, &mut density);
-            integral_coefficients_into(&density[..p.n], &p.half, &mut left[..=p.n], &mut right[..=p.n]);
+            integral_coefficients_into(
+                &density[..p.n],
+                &p.half,
+                &mut left[..=p.n],
+                &mut right[..=p.n],
+            );
             let view = PanelView {
                 a: &p.a,
                 b: &p.b,
@@ -465,7 +485,11 @@ impl<T: Real> TPanel<T> {
         let level = levels.level(n);
         let nodes: Vec<T> = (0..n).map(|k| level.node(&a, &b, &half, k)).collect();
         let xi: Vec<T> = nodes.iter().map(|t| local(t, &a, &b, &inv_width)).collect();
-        let xi = if level.nodes_exact(&xi) { Vec::new() } else { xi };
+        let xi = if level.nodes_exact(&xi) {
+            Vec::new()
+        } else {
+            xi
+        };
         TPanel {
             a,
             b,

@@ -34,7 +34,7 @@ use super::{AreaDensity, MarginalConditional, Parametrization, Recipe, WarpDefin
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// What the construction of a derived warp computed.
 #[derive(Clone, Debug, PartialEq)]
@@ -256,7 +256,10 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
     /// G_s⁻¹ at every v of `vs`, sharing one quadrature of σw(s, ·).
     pub fn conditional_inverse_many(&self, s: &T, vs: &[T]) -> Vec<T> {
         if self.closed.conditional_inverse || self.closed.conditional {
-            return vs.iter().map(|v| self.conditional_inverse_of(s, v)).collect();
+            return vs
+                .iter()
+                .map(|v| self.conditional_inverse_of(s, v))
+                .collect();
         }
         self.grid.inverse_many(&self.def, s, vs, &self.levels)
     }
@@ -307,10 +310,16 @@ struct ClosedConditional<'a, P, T> {
 
 impl<T: Real, P: WarpDefinition<T>> Cdf1<T> for ClosedConditional<'_, P, T> {
     fn cdf(&self, x: &T) -> T {
-        self.def.conditional_closed(self.s, x).expect("closed conditional")[0].clone()
+        self.def
+            .conditional_closed(self.s, x)
+            .expect("closed conditional")[0]
+            .clone()
     }
     fn pdf(&self, x: &T) -> T {
-        self.def.conditional_closed(self.s, x).expect("closed conditional")[1].clone()
+        self.def
+            .conditional_closed(self.s, x)
+            .expect("closed conditional")[1]
+            .clone()
     }
 }
 
@@ -473,22 +482,16 @@ impl<T: Real, P: WarpDefinition<T>> Warp<T> for DerivedWarp<T, P> {
         let (s, t) = self.warp_coordinates(u, v);
         self.recipe.def.phi(&s, &t)
     }
-    fn pdf(&self, p: &Vec3<T>) -> T {
-        if !p.is_finite() || self.recipe.def.outside_by(p) > on_shape_tolerance::<T>() {
-            return T::zero();
-        }
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         self.recipe.def.weight(p) / &self.recipe.measure
-    }
-    fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
-        let p = self.map(u, v);
-        let pdf = self.recipe.def.weight(&p) / &self.recipe.measure;
-        (p, pdf)
     }
     fn measure(&self) -> T {
         self.recipe.measure.clone()
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        self.inverse_pair(p).map(|[u, v]| (u, v))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.on_shape_tolerance())?;
+        self.inverse_pair(p)
+            .ok_or_else(|| InverseError::refuse(self, p))
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         self.recipe.def.outside_by(p)

@@ -91,7 +91,11 @@ fn interpolant<T: Real>(
             level.coefficients_at(values, &xi, &mut coeffs, &mut work);
         }
     }
-    let tail_now = if finite { tail(&coeffs, &scale) } else { T::max_value() };
+    let tail_now = if finite {
+        tail(&coeffs, &scale)
+    } else {
+        T::max_value()
+    };
     (coeffs, scale, floor, tail_now, finite)
 }
 
@@ -337,7 +341,12 @@ mod tests {
         assert!(p.resolved);
         // [0, 2^-20], [2^-20, 2^-19], …, [1/32, 1/16] (17 panels), then the
         // 15 starting panels [k/16, (k+1)/16]: 32 panels.
-        assert_eq!(p.fits.len(), 32, "{:?}", p.fits.iter().map(|f| f.a).collect::<Vec<_>>());
+        assert_eq!(
+            p.fits.len(),
+            32,
+            "{:?}",
+            p.fits.iter().map(|f| f.a).collect::<Vec<_>>()
+        );
         assert_eq!(p.fits[0].b, 2f64.powi(-20));
         let total: f64 = p.fits.iter().map(|f| f.integral(&levels)).sum();
         assert!((total - (0.5 + 1.0 / 3.0)).abs() < 1e-15);

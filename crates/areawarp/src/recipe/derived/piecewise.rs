@@ -68,7 +68,11 @@ impl<T: Real> PanelView<'_, T> {
     }
     /// p at ξ.
     pub fn density_xi(&self, xi: &T) -> T {
-        Self::series(self.density, xi, [Some(self.density_ends[0]), Some(self.density_ends[1])])
+        Self::series(
+            self.density,
+            xi,
+            [Some(self.density_ends[0]), Some(self.density_ends[1])],
+        )
     }
     /// ∫_a^s p at ξ(s).
     pub fn left_xi(&self, xi: &T) -> T {
@@ -179,15 +183,19 @@ pub(crate) fn invert_in_panel<T: Real>(view: PanelView<'_, T>, masses: &Masses<'
         if !(yc > T::zero()) {
             return T::one() - &newton.invert(&right, &yc).x;
         }
-        let frac = ((yc.clone() * masses.total - masses.after) / masses.own).clamp(&T::zero(), &T::one());
+        let frac =
+            ((yc.clone() * masses.total - masses.after) / masses.own).clamp(&T::zero(), &T::one());
         let lo = T::one() - view.b;
         let hi = T::one() - view.a;
         let x0 = lo.clone() + &(frac * &width);
         T::one() - &newton.solve_in(&right, &yc, x0, lo, hi).x
     } else {
-        let frac = ((y.clone() * masses.total - masses.before) / masses.own).clamp(&T::zero(), &T::one());
+        let frac =
+            ((y.clone() * masses.total - masses.before) / masses.own).clamp(&T::zero(), &T::one());
         let x0 = view.a.clone() + &(frac * &width);
-        newton.solve_in(&left, y, x0, view.a.clone(), view.b.clone()).x
+        newton
+            .solve_in(&left, y, x0, view.a.clone(), view.b.clone())
+            .x
     };
     let s = value.detached();
     let d = left.pdf(&s);

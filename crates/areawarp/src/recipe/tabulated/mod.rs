@@ -36,7 +36,7 @@ use super::{DerivedWarp, WarpDefinition};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// What the construction of a table computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -252,22 +252,16 @@ impl<T: Real, P: WarpDefinition<T>> Warp<T> for TabulatedWarp<T, P> {
         let (s, t) = self.warp_coordinates(u, v);
         self.def.phi(&s, &t)
     }
-    fn pdf(&self, p: &Vec3<T>) -> T {
-        if !p.is_finite() || self.def.outside_by(p) > on_shape_tolerance::<T>() {
-            return T::zero();
-        }
+    fn pdf_unchecked(&self, p: &Vec3<T>) -> T {
         self.def.weight(p) / &self.measure
-    }
-    fn map_with_pdf(&self, u: &T, v: &T) -> (Vec3<T>, T) {
-        let p = self.map(u, v);
-        let pdf = self.def.weight(&p) / &self.measure;
-        (p, pdf)
     }
     fn measure(&self) -> T {
         self.measure.clone()
     }
-    fn inverse(&self, p: &Vec3<T>) -> Option<(T, T)> {
-        self.inverse_pair(p).map(|[u, v]| (u, v))
+    fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        InverseError::check(self, p, &self.on_shape_tolerance())?;
+        self.inverse_pair(p)
+            .ok_or_else(|| InverseError::refuse(self, p))
     }
     fn outside_by(&self, p: &Vec3<T>) -> T {
         self.def.outside_by(p)
@@ -348,9 +342,7 @@ pub fn measure_error<T: Real, M: Real, P: WarpDefinition<T>>(
         let pm: Vec3<M> = p.convert();
         out.marginal = out.marginal.max((sm - &s_exact).abs().to_f64());
         out.conditional = out.conditional.max((tm - &t_exact).abs().to_f64());
-        out.point = out
-            .point
-            .max((pm.sub(&q).max_abs() / &extent).to_f64());
+        out.point = out.point.max((pm.sub(&q).max_abs() / &extent).to_f64());
     }
     out
 }

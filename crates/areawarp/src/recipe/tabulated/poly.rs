@@ -42,7 +42,6 @@ impl<T: Real> Basis<T> {
             checks_first,
         }
     }
-
 }
 
 /// The monomial coefficients of the polynomial of degree n − 1 through

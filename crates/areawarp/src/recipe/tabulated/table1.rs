@@ -190,7 +190,8 @@ impl<T: Real> Table1<T> {
         }
         let piece = Piece { table: self, i: lo };
         let (a, b) = (self.breaks[lo].clone(), self.breaks[lo + 1].clone());
-        let frac = ((s.clone() - &self.values[lo]) / &(self.values[lo + 1].clone() - &self.values[lo]))
+        let frac = ((s.clone() - &self.values[lo])
+            / &(self.values[lo + 1].clone() - &self.values[lo]))
             .clamp(&T::zero(), &T::one());
         let x0 = a.clone() + &(frac * &(b.clone() - &a));
         Newton::default().solve_in(&piece, s, x0, a, b).x
@@ -225,7 +226,12 @@ impl<T: Real> Cdf1<T> for Piece<'_, T> {
         let t = self.table;
         let d1 = t.degree + 1;
         let m = &t.mono[self.i * d1..(self.i + 1) * d1];
-        let xi = local(u, &t.breaks[self.i], &t.breaks[self.i + 1], &t.inv_width[self.i]);
+        let xi = local(
+            u,
+            &t.breaks[self.i],
+            &t.breaks[self.i + 1],
+            &t.inv_width[self.i],
+        );
         let mut acc = T::zero();
         for (k, c) in m.iter().enumerate().skip(1).rev() {
             acc = acc * &xi + &(c.clone() * &T::from_i64(k as i64));

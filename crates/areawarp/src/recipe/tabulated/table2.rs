@@ -33,6 +33,9 @@ pub(crate) struct Table2<T> {
     s_breaks: Vec<T>,
     s_inv_width: Vec<T>,
     panels: Vec<SPanel<T>>,
+    /// The table is G⁻¹(s, v) = v to the rounding level (a conditional
+    /// uniform in t: every azimuthally symmetric lobe): evaluated as v.
+    identity: bool,
 }
 
 /// The s-values of a panel's nodes and checks, and the v-values of a cell's.
@@ -145,6 +148,20 @@ impl<T: Real> Table2<T> {
         }
         stats.panels = panels.iter().map(|p| p.inv_width.len()).sum();
         stats.estimated_error = worst.to_f64();
+        // One cell whose polynomial is (1 + η)/2 = v: the identity.
+        let identity = panels.len() == 1 && panels[0].inv_width.len() == 1 && {
+            let m = &panels[0].mono;
+            let bound = T::from_i64(4) * &T::unit_roundoff();
+            let half = T::from_ratio(1, 2);
+            m.iter().enumerate().all(|(k, c)| {
+                let expected = if k == 0 || k == 1 {
+                    half.clone()
+                } else {
+                    T::zero()
+                };
+                (c.clone() - &expected).abs() <= bound
+            })
+        };
         let _ = d1;
         Ok((
             Table2 {
@@ -152,6 +169,7 @@ impl<T: Real> Table2<T> {
                 s_breaks,
                 s_inv_width,
                 panels,
+                identity,
             },
             stats,
         ))
@@ -186,9 +204,8 @@ impl<T: Real> Table2<T> {
                 mono[i * d1 + j] = mij;
             }
         }
-        let approx = |s: &T, v: &T| {
-            eval_tensor(&mono, d1, &local(s, a, b, s_iw), &local(v, c, e, v_iw))
-        };
+        let approx =
+            |s: &T, v: &T| eval_tensor(&mono, d1, &local(s, a, b, s_iw), &local(v, c, e, v_iw));
         let mut err_v = T::zero();
         for s in s_nodes {
             for (v, exact) in v_checks.iter().zip(g(s, v_checks)) {
@@ -203,7 +220,10 @@ impl<T: Real> Table2<T> {
         // Not at s = 0 or 1 themselves: there σw may vanish identically (a
         // pole, every t the same point) and G_s is undefined.
         let all_v: Vec<T> = v_nodes.iter().chain(v_checks).cloned().collect();
-        for s in s_checks.iter().filter(|s| **s > T::zero() && **s < T::one()) {
+        for s in s_checks
+            .iter()
+            .filter(|s| **s > T::zero() && **s < T::one())
+        {
             for (v, exact) in all_v.iter().zip(g(s, &all_v)) {
                 err_s = err_s.max(&(approx(s, v) - &exact).abs());
             }
@@ -231,17 +251,30 @@ impl<T: Real> Table2<T> {
     fn cell_eval(&self, p: usize, q: usize, xi: &T, v: &T) -> T {
         let d1 = self.degree + 1;
         let panel = &self.panels[p];
-        let eta = local(v, &panel.breaks[q], &panel.breaks[q + 1], &panel.inv_width[q]);
+        let eta = local(
+            v,
+            &panel.breaks[q],
+            &panel.breaks[q + 1],
+            &panel.inv_width[q],
+        );
         eval_tensor(&panel.mono[q * d1 * d1..(q + 1) * d1 * d1], d1, xi, &eta)
     }
 
     /// G⁻¹(s, v) from the table, clamped to [0, 1].
     pub fn eval(&self, s: &T, v: &T) -> T {
-        let s = s.clamp(&T::zero(), &T::one());
         let v = v.clamp(&T::zero(), &T::one());
+        if self.identity {
+            return v;
+        }
+        let s = s.clamp(&T::zero(), &T::one());
         let p = self.s_panel(&s);
         let panel = &self.panels[p];
-        let xi = local(&s, &self.s_breaks[p], &self.s_breaks[p + 1], &self.s_inv_width[p]);
+        let xi = local(
+            &s,
+            &self.s_breaks[p],
+            &self.s_breaks[p + 1],
+            &self.s_inv_width[p],
+        );
         // Largest q with breaks[q] ≤ v.
         let (mut lo, mut hi) = (0, panel.inv_width.len() - 1);
         while lo < hi {
@@ -258,10 +291,18 @@ impl<T: Real> Table2<T> {
     /// The v with eval(s, v) = t: the cell whose t-range at s contains t,
     /// then safeguarded Newton.
     pub fn inverse(&self, s: &T, t: &T) -> T {
+        if self.identity {
+            return t.clamp(&T::zero(), &T::one());
+        }
         let s = s.clamp(&T::zero(), &T::one());
         let p = self.s_panel(&s);
         let panel = &self.panels[p];
-        let xi = local(&s, &self.s_breaks[p], &self.s_breaks[p + 1], &self.s_inv_width[p]);
+        let xi = local(
+            &s,
+            &self.s_breaks[p],
+            &self.s_breaks[p + 1],
+            &self.s_inv_width[p],
+        );
         let cells = panel.inv_width.len();
         // Largest q whose lower edge maps to ≤ t.
         let (mut lo, mut hi) = (0, cells - 1);
@@ -308,6 +349,7 @@ impl<T: Real> Table2<T> {
                     mono: c(&p.mono),
                 })
                 .collect(),
+            identity: self.identity,
         }
     }
 }
@@ -329,7 +371,12 @@ impl<T: Real> Cdf1<T> for Cell<'_, T> {
         let d1 = t.degree + 1;
         let panel = &t.panels[self.p];
         let m = &panel.mono[self.q * d1 * d1..(self.q + 1) * d1 * d1];
-        let eta = local(v, &panel.breaks[self.q], &panel.breaks[self.q + 1], &panel.inv_width[self.q]);
+        let eta = local(
+            v,
+            &panel.breaks[self.q],
+            &panel.breaks[self.q + 1],
+            &panel.inv_width[self.q],
+        );
         // ∂/∂η of Σ ξ^i Σ j m_ij η^(j−1).
         let mut acc = T::zero();
         for i in (0..d1).rev() {
