@@ -13,7 +13,7 @@
 
 use areawarp::harness::extremes::{extremes_grid, random_points};
 use areawarp::harness::roundtrip::check_roundtrip;
-use areawarp::real::{Embed, Mpfr256, Real, convert};
+use areawarp::real::{Embed, Mpfr256, Real};
 use areawarp::recipe::definitions::{Cap, Ggx, Hemisphere, VonMisesFisher};
 use areawarp::recipe::tabulated::{MeasuredError, measure_error};
 use areawarp::recipe::{AreaDensity, DerivedWarp, Parametrization, TabulatedWarp, WarpDefinition};
@@ -34,21 +34,25 @@ fn points(random: usize) -> Vec<(f64, f64)> {
     pts
 }
 
-/// The f64 table and the f32 table (its coefficients rounded) of `def` at
-/// `tol`, measured against the 256-bit derived warp.
+/// The f64 table of `def` at `tol` measured against the 256-bit derived
+/// warp, and the f32 table — built in f32 from the f32 derived warp, where
+/// f32 can hold the tolerance (64 units of its roundoff, 3.8e-6) — measured
+/// against the 256-bit derived warp of the shape as f32 sees it.
 fn measure<P: WarpDefinition<f64>>(
     derived: &DerivedWarp<f64, P>,
     exact: &DerivedWarp<Mpfr256, P::At<Mpfr256>>,
     tol: f64,
     pts: &[(f64, f64)],
-) -> (TabulatedWarp<f64, P>, MeasuredError, MeasuredError) {
+) -> (TabulatedWarp<f64, P>, MeasuredError, Option<MeasuredError>) {
     let table = TabulatedWarp::new(derived, tol).expect("tabulated");
     let m64 = measure_error(&table, exact, pts);
-    let t32 = table.at::<f32>().expect("f32 table");
-    // The f32 table against the same shape as f32 sees it, at 256 bits.
-    let exact32 =
-        DerivedWarp::new(t32.definition().recast::<Mpfr256>().expect("256 bits")).expect("derived");
-    let m32 = measure_error(&t32, &exact32, pts);
+    let def32 = derived.recipe().definition().recast::<f32>().expect("f32");
+    let derived32 = DerivedWarp::new(def32.clone()).expect("f32 derived");
+    let m32 = TabulatedWarp::new(&derived32, tol).ok().map(|t32| {
+        let exact32 =
+            DerivedWarp::new(def32.recast::<Mpfr256>().expect("256 bits")).expect("derived");
+        measure_error(&t32, &exact32, pts)
+    });
     (table, m64, m32)
 }
 
@@ -147,23 +151,21 @@ fn dial<P: WarpDefinition<f64>>(name: &str, def: P) {
         let (table, m64, m32) = measure(&derived, &exact, tol, &pts);
         let r = table.report();
         println!(
-            "| {name} | {tol:.0e} | {:.2e} | {:.2e} | {:.2e} | {} | {} | {} |",
+            "| {name} | {tol:.0e} | {:.2e} | {:.2e} | {} | {} | {} | {} |",
             m64.inverse(),
             m64.point,
-            m32.inverse(),
+            m32.as_ref()
+                .map_or("—".into(), |m| format!("{:.2e}", m.inverse())),
             r.marginal_panels,
             r.conditional_cells,
             m64.points
         );
-        assert_eq!(m64.non_finite + m32.non_finite, 0);
+        assert_eq!(m64.non_finite, 0);
         assert!(m64.inverse() <= tol, "{name}, tol {tol}: measured {m64:?}");
-        // The f32 table adds f32's own rounding (about 2^-24 of s and t).
-        let f32_floor = 8.0 * f64::from(f32::EPSILON);
-        assert!(
-            m32.inverse() <= tol.max(f32_floor),
-            "{name} f32, tol {tol}: {m32:?}"
-        );
-        let _ = convert::<f64, f32>(&tol);
+        if let Some(m32) = m32 {
+            assert_eq!(m32.non_finite, 0);
+            assert!(m32.inverse() <= tol, "{name} f32, tol {tol}: {m32:?}");
+        }
     }
 }
 
@@ -177,12 +179,12 @@ fn two_dimensional_table_at_256_bits() {
         let (table, m, m32) = measure(&derived, &exact, tol, &pts);
         let r = table.report();
         println!(
-            "| hemisphere · e^(2x) | {tol:.0e} | {:.2e} (F⁻¹ {:.2e}, G⁻¹ {:.2e}) | {:.2e} | {:.2e} | {} | {} |",
+            "| hemisphere · e^(2x) | {tol:.0e} | {:.2e} (F⁻¹ {:.2e}, G⁻¹ {:.2e}) | {:.2e} | {} | {} | {} |",
             m.inverse(),
             m.marginal,
             m.conditional,
             m.point,
-            m32.inverse(),
+            m32.map_or("—".into(), |m| format!("{:.2e}", m.inverse())),
             r.marginal_panels,
             r.conditional_cells
         );
@@ -194,7 +196,7 @@ fn two_dimensional_table_at_256_bits() {
 #[ignore = "the full dial at 256 bits (a few minutes)"]
 fn the_tabulation_dial() {
     println!(
-        "| warp | requested tolerance | measured max error of F⁻¹, G⁻¹ (f64 table, vs 256 bits) | max point error (f64) | measured (f32 table) | panels of F⁻¹ | cells of G⁻¹ | points |"
+        "| warp | requested tolerance | measured max error of F⁻¹, G⁻¹ (f64 table, vs 256 bits) | max point error (f64) | measured (f32 table, built in f32) | panels of F⁻¹ | cells of G⁻¹ | points |"
     );
     println!("|---|---|---|---|---|---|---|---|");
     dial("cap θ_max = 0.5", Cap::new(0.5).unwrap());

@@ -111,7 +111,7 @@ impl<T: Real> ChebyshevLevel<T> {
             b.clone()
         } else if k == self.n - 1 {
             a.clone()
-        } else if 2 * k <= self.n - 1 {
+        } else if 2 * k < self.n {
             b.clone() - &(half.clone() * &self.one_minus[k])
         } else {
             a.clone() + &(half.clone() * &self.one_plus[k])

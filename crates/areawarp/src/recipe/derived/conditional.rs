@@ -208,12 +208,11 @@ impl<T: Real> ConditionalGrid<T> {
         total: &T,
         levels: &ChebyshevLevels<T>,
         buf: &mut [T],
-        last_filled: usize,
     ) -> (usize, T, T, T) {
         let count = self.panels.len();
         let half = T::from_ratio(1, 2);
         let get = |j: usize, buf: &mut [T]| -> T {
-            if count == 1 && last_filled == 0 {
+            if count == 1 {
                 // The only panel's values are still in the buffer.
                 levels
                     .level(self.panels[0].n)
@@ -249,19 +248,19 @@ impl<T: Real> ConditionalGrid<T> {
         unreachable!("the loops return at their last panel")
     }
 
-    /// Z(s) and the values of the last panel in `buf` (index returned).
+    /// Z(s), leaving the values of the last panel in `buf`.
     fn total_with_values<D: AreaDensity<T>>(
         &self,
         def: &D,
         s: &T,
         levels: &ChebyshevLevels<T>,
         buf: &mut [T],
-    ) -> (T, usize) {
+    ) -> T {
         let mut total = T::zero();
         for j in 0..self.panels.len() {
             total += &self.values(def, s, j, levels, buf);
         }
-        (total, self.panels.len() - 1)
+        total
     }
 
     /// G_s⁻¹(v). Where Z(s) is not positive (a pole of φ, where every t
@@ -274,11 +273,11 @@ impl<T: Real> ConditionalGrid<T> {
         levels: &ChebyshevLevels<T>,
     ) -> T {
         let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
-        let (total, last) = self.total_with_values(def, s, levels, &mut buf);
+        let total = self.total_with_values(def, s, levels, &mut buf);
         if !(total > T::zero()) || !total.is_finite() {
             return v.clamp(&T::zero(), &T::one());
         }
-        let (j, before, own, after) = self.locate(def, s, v, &total, levels, &mut buf, last);
+        let (j, before, own, after) = self.locate(def, s, v, &total, levels, &mut buf);
         let p = &self.panels[j];
         let mut density: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
         let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());

@@ -1,5 +1,5 @@
 //! Fast inverses with a measured error: F⁻¹ and G⁻¹ of a
-//! [`DerivedWarp`](super::DerivedWarp) replaced by piecewise polynomials
+//! [`DerivedWarp`] replaced by piecewise polynomials
 //! built at construction for a requested tolerance.
 //!
 //! * F⁻¹(u): polynomials of degree d (default 5) in u, interpolating at the
@@ -274,7 +274,11 @@ impl<T: Real, P: WarpDefinition<T>> Warp<T> for TabulatedWarp<T, P> {
 impl<T: Real, P: WarpDefinition<T>> WarpFamily<T> for TabulatedWarp<T, P> {
     type At<S: Real> = TabulatedWarp<S, P::At<S>>;
     /// The same tables over `S` (their numbers converted, not refitted): the
-    /// map a renderer evaluating them in `S` gets.
+    /// map a renderer evaluating them in `S` gets. Converted to a scalar
+    /// coarser than the one they were fitted in, the tables can miss the
+    /// tolerance where F⁻¹ is steep (next to a pole at u = 1, panels finer
+    /// than the coarser scalar's floats): build them in that scalar instead
+    /// (`TabulatedWarp::new` on a `DerivedWarp<f32, _>`).
     fn at<S: Real>(&self) -> Result<Self::At<S>, WarpError> {
         Ok(TabulatedWarp {
             def: self.def.recast::<S>()?,

@@ -78,11 +78,12 @@ pub(crate) fn interpolate<T: Real>(xi: &[T], values: &[T]) -> Vec<T> {
             })
             .unwrap_or(col);
         a.swap(col, pivot);
-        for r in col + 1..n {
-            let factor = a[r][col].clone() / &a[col][col];
-            for c in col..=n {
-                let sub = factor.clone() * &a[col][c];
-                a[r][c] -= &sub;
+        let (upper, lower) = a.split_at_mut(col + 1);
+        let pivot_row = &upper[col];
+        for row in lower.iter_mut() {
+            let factor = row[col].clone() / &pivot_row[col];
+            for (x, p) in row[col..].iter_mut().zip(&pivot_row[col..]) {
+                *x -= &(factor.clone() * p);
             }
         }
     }
