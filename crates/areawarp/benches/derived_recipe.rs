@@ -20,7 +20,9 @@ use areawarp::recipe::definitions::{Cap, Disk, Ggx, Hemisphere, Phong, Sphere, V
 use areawarp::recipe::{DerivedWarp, TabulatedWarp, WarpDefinition};
 use areawarp::shapes;
 use areawarp::{Coords, Real, Warp};
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{
+    BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,
+};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -67,6 +69,7 @@ where
     });
     g.bench_function("derived", |b| b.iter(|| black_box(map_all(&derived, &pts))));
     g.throughput(Throughput::Elements(1));
+    g.sampling_mode(SamplingMode::Flat);
     g.bench_function("construction", |b| {
         b.iter(|| black_box(DerivedWarp::new(black_box(def.clone())).expect("derivable")))
     });
@@ -93,6 +96,25 @@ fn derived(c: &mut Criterion) {
     let cap = Cap::new(1.0).expect("angle");
     let closed_cap = DerivedWarp::new(cap.clone().with_closed_forms()).expect("closed");
     derived_vs_closed(c, "cap_1rad", cap, closed_cap);
+    // The same cap against the closed-form uniform cone (cos θ_max given).
+    derived_vs_closed(
+        c,
+        "cap_vs_uniform_cone_1rad",
+        Cap::new(1.0).expect("angle"),
+        shapes::UniformCone::new(1f64.cos()).expect("cone"),
+    );
+    derived_vs_closed(
+        c,
+        "ggx_alpha0.5",
+        Ggx::new(0.5).expect("alpha"),
+        shapes::Ggx::new(0.5).expect("alpha"),
+    );
+    derived_vs_closed(
+        c,
+        "vmf_kappa10",
+        VonMisesFisher::new(10.0).expect("kappa"),
+        shapes::VonMisesFisher::new(10.0).expect("kappa"),
+    );
 }
 
 /// The tolerances of the dial.
@@ -110,6 +132,7 @@ fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
     });
     for tol in TOLERANCES {
         let t64 = TabulatedWarp::new(&derived, tol).expect("tabulated");
+        g.sampling_mode(SamplingMode::Auto);
         g.throughput(Throughput::Elements(N as u64));
         g.bench_with_input(BenchmarkId::new("f64", tol), &tol, |b, _| {
             b.iter(|| black_box(map_all(&t64, &p64)))
@@ -122,6 +145,7 @@ fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
             });
         }
         g.throughput(Throughput::Elements(1));
+        g.sampling_mode(SamplingMode::Flat);
         g.bench_with_input(BenchmarkId::new("construction", tol), &tol, |b, &tol| {
             b.iter(|| black_box(TabulatedWarp::new(&derived, tol).expect("tabulated")))
         });

@@ -16,6 +16,10 @@
 //! - the `f32`/`f64` warps' `rand::distr::Distribution` draws `map(u, v)` of
 //!   the same `(u, v)` a caller would draw.
 //!
+//! Derived warps (φ and a weight, steps 2–4 by quadrature) are re-derived
+//! in each scalar, 256-bit quadrature included; a tabulated warp's f64
+//! tables are converted.
+//!
 //! The papers' literal algorithms keep the contract on ordinary shapes; on
 //! the hard-shape ladders only the robust variants are held to it (the
 //! literal ones lose all their digits there, which the precision study
@@ -23,6 +27,8 @@
 
 use areawarp::harness::extremes::{extremes_grid, random_points};
 use areawarp::real::Real;
+use areawarp::recipe::definitions::Cap;
+use areawarp::recipe::{self, DerivedWarp, TabulatedWarp};
 use areawarp::shapes::{
     Beckmann, Bilinear, ConcentricDisk, Ggx, Hemisphere, MarginalInversion, PhongLobe,
     PlanarTriangle, PlanarTriangleVariant, PolarDisk, ProjectedPolygon, Sphere, SphereLight,
@@ -431,6 +437,7 @@ fn all_warps_in<T: Real>(label: &str) -> Tally {
     .unwrap();
     check_in::<T, _>(&framed, "polygon from points", Weighted, Full, &mut t);
     new_warps_in::<T>(&mut t);
+    derived_warps_in::<T>(&mut t);
     println!(
         "{label}: {} shapes, {} rejected, {} points, worst outside_by {:.3} u, worst image {:.3} u, {} failures, {} in the documented exceptions",
         t.shapes,
@@ -499,6 +506,44 @@ fn new_warps_in<T: Real>(t: &mut Tally) {
     )
     .unwrap();
     check_in::<T, _>(&fold, "planar triangle fold", Uniform, Full, t);
+}
+
+/// The warps derived from φ and a weight by quadrature (re-derived in `T`:
+/// quadrature and Newton inversions at 256 bits for `Mpfr256`), and
+/// tabulated ones: f64 tables converted to `T` (as a renderer evaluating
+/// them in `T` gets them), and a table built in `T` itself.
+fn derived_warps_in<T: Real>(t: &mut Tally) {
+    use Density::{Uniform, Weighted};
+    use Scope::{Full, NoImage};
+    let cap = DerivedWarp::new(Cap::<f64>::new(1.0).unwrap()).unwrap();
+    check_in::<T, _>(&cap, "derived cap 1", Uniform, Full, t);
+    let ggx = DerivedWarp::new(recipe::definitions::Ggx::<f64>::new(0.5).unwrap()).unwrap();
+    check_in::<T, _>(&ggx, "derived ggx 0.5", Weighted, Full, t);
+    let vmf =
+        DerivedWarp::new(recipe::definitions::VonMisesFisher::<f64>::new(10.0).unwrap()).unwrap();
+    check_in::<T, _>(&vmf, "derived vmf 10", Weighted, Full, t);
+    // Converted f64 tables are continuous across their panel ends only to
+    // f64 rounding (each panel's polynomial has its own rounded
+    // coefficients): above f64 the round trip at a panel end comes back
+    // within that (1e-19), not within 2^(-p/2).
+    let converted = if T::precision() > 53 { NoImage } else { Full };
+    for tol in [1e-3, 1e-9] {
+        let table = TabulatedWarp::new(&vmf, tol).unwrap();
+        let name = format!("tabulated vmf 10 {tol:e}");
+        check_in::<T, _>(&table, &name, Weighted, converted, t);
+    }
+    t.shapes += 1;
+    let vmf_t =
+        DerivedWarp::new(recipe::definitions::VonMisesFisher::<T>::new(T::from_i64(10)).unwrap())
+            .unwrap();
+    let table = TabulatedWarp::new(&vmf_t, 1e-3).unwrap();
+    check(
+        &table,
+        "tabulated vmf 10 1e-3 built in T",
+        Weighted,
+        Full,
+        t,
+    );
 }
 
 /// Projected-polygon test shapes: convex, crossing the horizon, non-convex.

@@ -14,7 +14,9 @@ use areawarp::harness::extremes::{extremes_grid, random_points};
 use areawarp::harness::jacobian::check_jacobian;
 use areawarp::harness::roundtrip::check_roundtrip;
 use areawarp::real::{Embed, Mpfr256, Real};
-use areawarp::recipe::definitions::{Cap, Disk, Hemisphere, Phong, Sphere};
+use areawarp::recipe::definitions::{
+    Beckmann, Cap, Disk, Ggx, Hemisphere, Phong, Sphere, VonMisesFisher,
+};
 use areawarp::recipe::{
     AreaDensity, DerivedRecipe, DerivedWarp, Newton, Parametrization, RecipeWarp, WarpDefinition,
 };
@@ -26,32 +28,44 @@ const JACOBIAN_BOUND: f64 = 1e-60;
 /// roundoff.
 const ULPS_BOUND: f64 = 16.0;
 
-/// max ‖ψ_derived(u, v) − ψ_closed(u, v)‖_∞ over the extremes grid, in units
-/// of f64 roundoff (2⁻⁵³): against the closed form at 256 bits, and against
-/// the closed form in f64.
-fn against_closed<D, C>(derived: &D, closed: &C) -> (f64, f64)
+/// Distances over the extremes grid, in units of f64 roundoff (2⁻⁵³, the
+/// shapes have extent 1), of max ‖·‖_∞: the derived f64 map against the
+/// closed form at 256 bits, the closed form's own f64 map against it, and
+/// the derived f64 map against the closed-form f64 map.
+struct Distances {
+    derived_vs_256: f64,
+    closed_vs_256: f64,
+    derived_vs_closed: f64,
+}
+
+fn against_closed<D, C>(derived: &D, closed: &C) -> Distances
 where
     D: Warp<f64>,
     C: WarpFamily<f64>,
 {
     let reference = closed.at::<Mpfr256>().expect("256 bits");
     let unit = f64::EPSILON / 2.0;
-    let (mut vs_256, mut vs_64) = (0.0f64, 0.0f64);
+    let mut d = Distances {
+        derived_vs_256: 0.0,
+        closed_vs_256: 0.0,
+        derived_vs_closed: 0.0,
+    };
     for (u, v) in extremes_grid() {
         let p = derived.map(&u, &v).to_vec3();
         let q = reference
             .map(&Mpfr256::from_f64(u), &Mpfr256::from_f64(v))
             .to_vec3();
         let r = closed.map(&u, &v).to_vec3();
-        let pm: Vec3<Mpfr256> = p.convert();
-        vs_256 = vs_256.max(pm.sub(&q).max_abs().to_f64() / unit);
-        vs_64 = vs_64.max(p.sub(&r).max_abs() / unit);
+        let (pm, rm): (Vec3<Mpfr256>, Vec3<Mpfr256>) = (p.convert(), r.convert());
+        d.derived_vs_256 = d.derived_vs_256.max(pm.sub(&q).max_abs().to_f64() / unit);
+        d.closed_vs_256 = d.closed_vs_256.max(rm.sub(&q).max_abs().to_f64() / unit);
+        d.derived_vs_closed = d.derived_vs_closed.max(p.sub(&r).max_abs() / unit);
     }
-    (vs_256, vs_64)
+    d
 }
 
-/// One derived warp checked: Jacobian at 256 bits and f64 against the
-/// closed form; prints a table row.
+/// One derived warp checked: Jacobian at 256 bits (if `jacobian`) and f64
+/// against the closed form; prints a table row.
 fn check<P, C>(name: &str, def: P, closed: C, jacobian: bool)
 where
     P: WarpDefinition<f64>,
@@ -59,23 +73,30 @@ where
 {
     let derived = DerivedWarp::new(def).expect("derivable");
     let r = derived.recipe().report();
-    let (vs_256, vs_64) = against_closed(&derived, &closed);
+    let d = against_closed(&derived, &closed);
     let jac = jacobian.then(|| check_jacobian(&derived, &extremes_grid()).expect("256 bits"));
     println!(
-        "| {name} | {} | {} | {} | {:.2} | {:.2} | {} |",
+        "| {name} | {} | {} | {} | {} | {:.2} | {:.2} | {:.2} |",
         r.s_panels,
         r.t_panels,
         r.evaluations,
-        vs_256,
-        vs_64,
         jac.as_ref().map_or("—".to_string(), |j| format!(
             "{:.1e} ({} nudged)",
             j.max_rel_deviation, j.nudged
         )),
+        d.derived_vs_256,
+        d.closed_vs_256,
+        d.derived_vs_closed,
     );
     assert!(
-        vs_256 <= ULPS_BOUND,
-        "{name}: {vs_256} ulps against the closed form"
+        d.derived_vs_256 <= ULPS_BOUND,
+        "{name}: {} ulps against the closed form at 256 bits",
+        d.derived_vs_256
+    );
+    assert!(
+        d.derived_vs_closed <= ULPS_BOUND,
+        "{name}: {} ulps against the closed form in f64",
+        d.derived_vs_closed
     );
     if let Some(j) = jac {
         assert!(j.passes(JACOBIAN_BOUND), "{name}: {j:?}");
@@ -84,9 +105,9 @@ where
 
 fn header() {
     println!(
-        "| warp | s-panels | t-panels | σ evaluations | f64 vs closed form at 256 bits (ulps) | f64 vs closed form in f64 (ulps) | max \\|J·pdf − 1\\| at 256 bits |"
+        "| warp | s-panels | t-panels | σ evaluations | max \\|J·pdf − 1\\| at 256 bits (extremes grid) | derived f64 vs closed form at 256 bits (u) | closed form f64 vs 256 bits (u) | derived f64 vs closed form f64 (u) |"
     );
-    println!("|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
 }
 
 #[test]
@@ -112,12 +133,49 @@ fn derived_warps_are_exact_and_match_the_closed_forms() {
             false,
         );
     }
+    check(
+        "GGX α = 0.5",
+        Ggx::new(0.5).unwrap(),
+        shapes::Ggx::new(0.5).unwrap(),
+        false,
+    );
+    check(
+        "Beckmann α = 0.5",
+        Beckmann::new(0.5).unwrap(),
+        shapes::Beckmann::new(0.5).unwrap(),
+        false,
+    );
+    check(
+        "vMF κ = 10",
+        VonMisesFisher::new(10.0).unwrap(),
+        shapes::VonMisesFisher::new(10.0).unwrap(),
+        false,
+    );
+}
+
+/// The cap of half-angle acos(`c`) derived, against the uniform cone of
+/// cos θ_max = `c` (θ_max rounded to f64 from acos(c) at 256 bits, so the
+/// two caps differ by half an ulp of θ_max).
+fn cap_and_cone(c: f64) -> (Cap<f64>, shapes::UniformCone<f64>) {
+    let theta = Mpfr256::from_f64(c).acos().to_f64();
+    (
+        Cap::new(theta).unwrap(),
+        shapes::UniformCone::new(c).unwrap(),
+    )
 }
 
 #[test]
-#[ignore = "256-bit Jacobians of the heavier derived warps (about 2 minutes)"]
+#[ignore = "256-bit Jacobians of every derived warp with a closed form (several minutes in release)"]
 fn derived_warps_jacobians_at_256_bits() {
     header();
+    check(
+        "hemisphere",
+        Hemisphere::new(),
+        shapes::Hemisphere::new(),
+        true,
+    );
+    check("disk", Disk::new(), shapes::PolarDisk::new(), true);
+    check("sphere", Sphere::new(), shapes::Sphere::new(), true);
     for k in [1.0, 10.0, 1000.0] {
         let name = format!("Phong k = {k}");
         check(
@@ -127,16 +185,47 @@ fn derived_warps_jacobians_at_256_bits() {
             true,
         );
     }
-    for theta in [
-        0.05,
-        std::f64::consts::FRAC_PI_3,
-        2.5,
-        3.0,
-        std::f64::consts::PI,
-    ] {
-        let cap = Cap::new(theta).unwrap();
-        let closed = DerivedWarp::new(cap.clone().with_closed_forms()).unwrap();
-        check(&format!("cap θ_max = {theta:.4}"), cap, closed, true);
+    // Caps θ_max = 0.045 … π against the uniform cone (the cap's own
+    // closed forms, asin(√u sin(θ_max/2)), lose up to 1e6 u near θ_max = π).
+    for c in [0.999, 0.5, 0.0, -0.8, -0.99, -1.0] {
+        let (cap, cone) = cap_and_cone(c);
+        check(&format!("cap, cone cos θ_max = {c}"), cap, cone, true);
+    }
+    for a in [1.0, 0.5, 0.1, 0.01] {
+        check(
+            &format!("GGX α = {a}"),
+            Ggx::new(a).unwrap(),
+            shapes::Ggx::new(a).unwrap(),
+            true,
+        );
+    }
+}
+
+#[test]
+#[ignore = "256-bit Jacobians of the derived Beckmann distributions"]
+fn derived_beckmann_jacobians_at_256_bits() {
+    header();
+    for a in [1.0, 0.5, 0.1] {
+        check(
+            &format!("Beckmann α = {a}"),
+            Beckmann::new(a).unwrap(),
+            shapes::Beckmann::new(a).unwrap(),
+            true,
+        );
+    }
+}
+
+#[test]
+#[ignore = "256-bit Jacobians of the derived von Mises–Fisher distributions"]
+fn derived_vmf_jacobians_at_256_bits() {
+    header();
+    for k in [1e-8, 1.0, 10.0, 100.0, 1e4] {
+        check(
+            &format!("vMF κ = {k:e}"),
+            VonMisesFisher::new(k).unwrap(),
+            shapes::VonMisesFisher::new(k).unwrap(),
+            true,
+        );
     }
 }
 

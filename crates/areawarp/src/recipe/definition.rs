@@ -21,7 +21,7 @@ use crate::vector::Vec3;
 /// # Example
 /// `examples/define_your_own_warp.rs` (a spherical cap in a screenful) and
 /// [`definitions`](super::definitions) (hemisphere, Phong, disk, sphere, cap,
-/// GGX, von Mises–Fisher).
+/// GGX, Beckmann, von Mises–Fisher).
 pub trait WarpDefinition<T: Real>: AreaDensity<T> + Clone {
     /// The same definition over scalar `S`.
     type At<S: Real>: WarpDefinition<S>;

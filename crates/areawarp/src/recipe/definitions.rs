@@ -2,8 +2,8 @@
 //! [`DerivedWarp`](super::DerivedWarp) and
 //! [`TabulatedWarp`](super::TabulatedWarp): the shapes the crate also ships
 //! in closed form (hemisphere, Phong lobe, disk, sphere), the spherical cap
-//! (with its closed forms as an option), and two densities renderers need,
-//! GGX and von Mises–Fisher, without a line of CDF algebra.
+//! (with its closed forms as an option), and three densities renderers need,
+//! GGX, Beckmann and von Mises–Fisher, without a line of CDF algebra.
 //!
 //! Spherical definitions use the polar angle θ = θ_range·s (or the elevation,
 //! for Phong) and the azimuth 2πt, evaluated without cancellation near the
@@ -445,6 +445,78 @@ spherical_definition!(
         }
     },
     |self| Ggx::new(convert(&self.alpha))
+);
+
+/// The Beckmann distribution of microfacet normals m on the upper
+/// hemisphere, sampled proportionally to D(m)·cos θ_m:
+/// w(m) = exp(−tan² θ/α²) / (π α² cos³ θ), whose integral is 1, cut to 0
+/// where exp(−tan² θ/α²) < 2^(−2p−16) (p the precision of `T`). φ as
+/// [`Hemisphere`].
+#[derive(Clone, Debug)]
+pub struct Beckmann<T> {
+    alpha: T,
+    alpha2: T,
+    /// (2p + 16) ln 2: where the weight is cut to 0.
+    cut: T,
+    hemisphere: Hemisphere<T>,
+}
+
+impl<T: Real> Beckmann<T> {
+    /// The distribution of roughness `alpha ∈ (0, 1]`.
+    ///
+    /// # Errors
+    /// [`WarpError::NonFinite`], [`WarpError::InvalidParameter`] outside (0, 1].
+    pub fn new(alpha: T) -> Result<Self, WarpError> {
+        check(
+            &alpha,
+            "alpha",
+            &T::zero(),
+            &T::one(),
+            true,
+            "0 < alpha <= 1",
+        )?;
+        Ok(Beckmann {
+            cut: T::from_i64(2).ln() * &T::from_i64(2 * T::precision() as i64 + 16),
+            alpha2: alpha.square(),
+            alpha,
+            hemisphere: Hemisphere::new(),
+        })
+    }
+}
+
+impl<T: Real> Parametrization<T> for Beckmann<T> {
+    fn phi<S: Embed<T>>(&self, s: &S, t: &S) -> Vec3<S> {
+        self.hemisphere.phi(s, t)
+    }
+    fn chart(&self, p: &Vec3<T>) -> Option<(T, T)> {
+        self.hemisphere.chart(p)
+    }
+}
+
+spherical_definition!(
+    Beckmann,
+    "beckmann",
+    [alpha],
+    |self, p| {
+        let z2 = p.z.square();
+        if !(p.z > T::zero()) {
+            return T::zero();
+        }
+        // tan² θ = ρ²/z², 1/cos³ θ = (|p|/z)³.
+        let rho2 = p.x.square() + &p.y.square();
+        let x = rho2.clone() / &(z2.clone() * &self.alpha2);
+        // Cut where e^(−x) < 2^(−2p−16): the mass beyond is below u², and
+        // without the cut (MPFR's exponents do not underflow) the
+        // quadrature would chase a tail that decays faster than any power
+        // towards the horizon.
+        if !(x <= self.cut) {
+            return T::zero();
+        }
+        let e = (-x).exp();
+        let sec2 = (rho2 + &z2) / &z2;
+        e * &sec2 * &sec2.sqrt() / &(self.alpha2.clone() * &self.hemisphere.angles.pi)
+    },
+    |self| Beckmann::new(convert(&self.alpha))
 );
 
 /// The von Mises–Fisher distribution on the unit sphere about +z,
