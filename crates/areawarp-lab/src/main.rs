@@ -35,8 +35,12 @@ enum Command {
         #[arg(long)]
         inverse: bool,
         /// Solid-angle maps: `robust` (default) or the papers' `literal`
-        /// algorithms; `planar-triangle`: `fold` for Heitz's fold map.
-        #[arg(long, default_value = "robust", value_parser = ["robust", "literal", "fold"])]
+        /// algorithms; `planar-triangle`: `fold` for Heitz's fold map;
+        /// uniform-cone, ggx, beckmann, von-mises-fisher, hemisphere, phong,
+        /// sphere: `closed` (the closed form, default), `derived` (from φ and
+        /// the weight by quadrature) or `tabulated:TOL` (tabulated inverses,
+        /// error at most TOL on the parameters of φ).
+        #[arg(long, default_value = "robust", value_parser = parse_variant)]
         variant: String,
         /// projected-polygon: Newton steps after the Vandermonde cubic (default: to convergence).
         #[arg(long)]
@@ -59,6 +63,19 @@ enum Command {
     },
 }
 
+/// Accepts the values of `--variant`.
+fn parse_variant(s: &str) -> Result<String, String> {
+    if matches!(s, "robust" | "literal" | "fold")
+        || cli::eval_recipe::RecipeVariant::parse(s).is_some()
+    {
+        Ok(s.to_string())
+    } else {
+        Err(format!(
+            "expected robust, literal, fold, closed, derived or tabulated:TOL (TOL > 0), got {s:?}"
+        ))
+    }
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
     match args.command {
@@ -75,6 +92,7 @@ fn main() -> ExitCode {
                 fold: variant == "fold",
                 newton,
                 tolerance: None,
+                recipe: cli::eval_recipe::RecipeVariant::parse(&variant).unwrap_or_default(),
             };
             cli::eval::main(&precision, opts, file.as_deref())
         }

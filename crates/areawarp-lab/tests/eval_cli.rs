@@ -660,3 +660,70 @@ fn new_warps_invert_through_the_cli() {
 fn heads_len(_head: &str) -> usize {
     1
 }
+
+/// `--variant derived` and `--variant tabulated:TOL`: the warps derived from
+/// φ and a weight by quadrature, and with tabulated inverses, answer the same
+/// lines as the closed forms, within f64 roundoff (derived) and within the
+/// tolerance times |∂φ| ≤ 2π (tabulated); `--inverse` inverts them.
+#[test]
+fn derived_and_tabulated_variants_through_the_cli() {
+    let lines = "uniform-cone 0.5 0.3 0.7\nggx 0.5 0.3 0.7\nbeckmann 0.2 0.9 0.1\n\
+                 von-mises-fisher 10 0.3 0.7\nphong 10 0.3 0.7\nhemisphere 0.3 0.7\n\
+                 sphere 0.999999 0.25\n";
+    let (closed, ok) = run_eval(&["--variant", "closed"], lines);
+    assert!(ok, "{closed}");
+    for (variant, bound) in [("derived", 1e-14), ("tabulated:1e-9", 8e-9)] {
+        let (out, ok) = run_eval(&["--variant", variant], lines);
+        assert!(ok, "{out}");
+        assert_eq!(out.lines().count(), 7, "{out}");
+        for (a, b) in out.lines().zip(closed.lines()) {
+            assert_eq!(a.split(' ').next(), b.split(' ').next());
+            let (x, y) = (numbers(a), numbers(b));
+            assert_eq!(x.len(), 3, "{a}");
+            let d = x
+                .iter()
+                .zip(&y)
+                .map(|(p, q)| (p - q).abs())
+                .fold(0.0, f64::max);
+            assert!(d <= bound, "{variant}: {a} vs {b}: {d:e}");
+        }
+        // Round trip through the same variant.
+        let back_in: String = out
+            .lines()
+            .zip(lines.lines())
+            .map(|(o, l)| {
+                let words: Vec<&str> = l.split_whitespace().collect();
+                let params = &words[..words.len() - 2];
+                let point: Vec<&str> = o.split_whitespace().skip(1).collect();
+                format!("{} {}\n", params.join(" "), point.join(" "))
+            })
+            .collect();
+        let (back, ok) = run_eval(&["--variant", variant, "--inverse"], &back_in);
+        assert!(ok, "{back}");
+        for (b, l) in back.lines().zip(lines.lines()) {
+            let uv = numbers(b);
+            let w: Vec<f64> = numbers(l);
+            let (u, v) = (w[w.len() - 2], w[w.len() - 1]);
+            assert!(
+                (uv[0] - u).abs() < 1e-9 && (uv[1] - v).abs() < 1e-9,
+                "{variant}: {b} for {l}"
+            );
+        }
+    }
+    // A map without a derived variant, and a tolerance f32 cannot hold, are
+    // error lines; a tolerance that is not positive is refused.
+    let (out, ok) = run_eval(&["--variant", "derived"], "disk 0.3 0.7\n");
+    assert!(!ok && out.starts_with("disk error: no derived"), "{out}");
+    let (out, ok) = run_eval(
+        &["--variant", "tabulated:1e-9", "--precision", "f32"],
+        "ggx 0.5 0.3 0.7\n",
+    );
+    assert!(!ok && out.starts_with("ggx error:"), "{out}");
+    let (out, ok) = run_eval(
+        &["--variant", "tabulated:1e-4", "--precision", "f32"],
+        "ggx 0.5 0.3 0.7\n",
+    );
+    assert!(ok && numbers(&out).len() == 3, "{out}");
+    let (_, ok) = run_eval(&["--variant", "tabulated:0"], "ggx 0.5 0.3 0.7\n");
+    assert!(!ok);
+}

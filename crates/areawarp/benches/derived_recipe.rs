@@ -118,7 +118,7 @@ fn derived(c: &mut Criterion) {
 }
 
 /// The tolerances of the dial.
-const TOLERANCES: [f64; 5] = [1e-3, 1e-5, 1e-6, 1e-9, 1e-12];
+const TOLERANCES: [f64; 4] = [1e-3, 1e-6, 1e-9, 1e-12];
 
 fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
     let p64 = batch::<f64>();
@@ -155,20 +155,8 @@ fn dial_for<P: WarpDefinition<f64>>(c: &mut Criterion, name: &str, def: P) {
 
 fn dial(c: &mut Criterion) {
     dial_for(c, "cap_0.5rad", Cap::new(0.5).expect("angle"));
-    for alpha in [0.5, 0.01] {
-        dial_for(
-            c,
-            &format!("ggx_alpha{alpha}"),
-            Ggx::new(alpha).expect("alpha"),
-        );
-    }
-    for kappa in [1.0, 100.0, 1e4] {
-        dial_for(
-            c,
-            &format!("vmf_kappa{kappa}"),
-            VonMisesFisher::new(kappa).expect("kappa"),
-        );
-    }
+    dial_for(c, "ggx_alpha0.5", Ggx::new(0.5).expect("alpha"));
+    dial_for(c, "vmf_kappa10", VonMisesFisher::new(10.0).expect("kappa"));
 }
 
 fn config() -> Criterion {

@@ -219,7 +219,10 @@ fn derived_beckmann_jacobians_at_256_bits() {
 #[ignore = "256-bit Jacobians of the derived von Mises–Fisher distributions"]
 fn derived_vmf_jacobians_at_256_bits() {
     header();
-    for k in [1e-8, 1.0, 10.0, 100.0, 1e4] {
+    // κ ≥ 100 is not in this table: deriving it over Dual2<Mpfr256> takes
+    // over 30 minutes (open: the far tail, e^(−2κ), is not negligible at
+    // 256 bits and is resolved relative to itself).
+    for k in [1e-8, 1.0, 10.0] {
         check(
             &format!("vMF κ = {k:e}"),
             VonMisesFisher::new(k).unwrap(),

@@ -7,6 +7,7 @@
 //! Numbers are parsed directly in the chosen precision. Outputs are printed with enough digits
 //! to read back to the same value in that precision.
 
+use super::eval_recipe::RecipeVariant;
 use areawarp::real::Real;
 use areawarp::shapes::{
     Beckmann, Bilinear, ConcentricDisk, Ggx, Hemisphere, MarginalInversion, PhongLobe,
@@ -37,6 +38,8 @@ pub struct Options {
     /// `--precision auto:TOL`: the largest error the caller accepts; the
     /// light shapes are evaluated the cheapest way predicted to meet it.
     pub tolerance: Option<f64>,
+    /// `--variant closed|derived|tabulated:TOL` (see [`super::eval_recipe`]).
+    pub recipe: RecipeVariant,
 }
 
 /// Entry point of `areawarp eval`.
@@ -179,6 +182,9 @@ pub fn eval_line<T: Real>(line: &str, opts: &Options) -> Option<Result<String, S
 
 fn dispatch<T: Real>(name: &str, n: &[T], opts: &Options) -> Result<String, String> {
     let inverse = opts.inverse;
+    if opts.recipe != RecipeVariant::Closed {
+        return super::eval_recipe::eval_variant(name, n, opts.recipe, inverse);
+    }
     let vec3 = |i: usize| Vec3::new(n[i].clone(), n[i + 1].clone(), n[i + 2].clone());
     match name {
         "spherical-triangle" => {
@@ -413,7 +419,7 @@ fn join<T: Real>(xs: &[T]) -> String {
 }
 
 /// Checks the number count: `params` shape parameters, then `u v` or a point of `dim` coordinates.
-fn expect<T>(n: &[T], params: usize, inverse: bool, dim: usize) -> Result<(), String> {
+pub(super) fn expect<T>(n: &[T], params: usize, inverse: bool, dim: usize) -> Result<(), String> {
     let want = params + if inverse { dim } else { 2 };
     if n.len() == want {
         Ok(())
@@ -430,7 +436,11 @@ fn expect<T>(n: &[T], params: usize, inverse: bool, dim: usize) -> Result<(), St
     }
 }
 
-fn apply<T: Real, W: Warp<T>>(w: &W, rest: &[T], inverse: bool) -> Result<String, String> {
+pub(super) fn apply<T: Real, W: Warp<T>>(
+    w: &W,
+    rest: &[T],
+    inverse: bool,
+) -> Result<String, String> {
     if inverse {
         let mut c = rest.to_vec();
         c.resize(3, T::zero());

@@ -2,6 +2,7 @@
 
 pub mod eval;
 pub mod eval_auto;
+pub mod eval_recipe;
 pub mod placement;
 pub mod report;
 pub mod summary;
