@@ -180,6 +180,8 @@ fn why_rejected(e: &WarpError) -> String {
         WarpError::Degenerate { what } => format!("degenerate: {what}"),
         WarpError::Unrepresentable { what } => format!("unrepresentable: {what}"),
         WarpError::InvalidParameter { name, .. } => format!("invalid {name}"),
+        WarpError::NotConverged { what } => format!("not converged: {what}"),
+        WarpError::Inconsistent { what } => format!("inconsistent: {what}"),
     }
 }
 
