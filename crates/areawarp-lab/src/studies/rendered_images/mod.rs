@@ -271,7 +271,7 @@ impl Default for ImagesConfig {
     /// pixels per image pixel.
     fn default() -> Self {
         ImagesConfig {
-            seed: 0x1AA6_E5,
+            seed: 0x5EED_1A6E,
             ground: GroundConfig::default(),
             triptych: TriptychConfig::default(),
             ground_zoom: 1,
