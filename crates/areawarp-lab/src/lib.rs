@@ -12,7 +12,7 @@
 //! | [`estimator`] | the estimator pieces the variance experiments share: strategies, MIS methods, point sets, the measurement engine |
 //! | [`verdict`] | the rule that judges a paper's claim against a measurement, with intervals and p-values |
 //! | [`scene`] | receivers, emitters, occluders and light-sampling strategies for the variance experiments |
-//! | [`figures`] | SVG/PNG line plots, scatter plots and heat maps drawn with plotters, and their checker |
+//! | [`figures`] | SVG/PNG line plots, scatter plots, heat maps and grids of false-colour images drawn with plotters, and their checker |
 //! | [`jobs`] | [`jobs::run_jobs`]: reproducible parallel estimator jobs on rayon |
 //! | [`progress`] | progress bars (indicatif) for long parallel steps |
 //! | [`timing`] | per-thread CPU time for timings on a shared machine |

@@ -76,6 +76,12 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         "variance_glossy.svg",
         "variance_glossy_curves.csv",
         "variance_area_robust.svg",
+        // Issue 11's rendered images: Ureña, Fajardo & King 2013 Fig. 4
+        // and 6, Ureña 2000 Fig. 9, and their errors per image.
+        "images_ufk13.png",
+        "images_ufk13_mis.png",
+        "images_urena2000.png",
+        "images_errors.csv",
     ] {
         assert!(dir.join(name).is_file(), "the report did not write {name}");
     }
@@ -118,6 +124,48 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
             "{stem}: no caption line"
         );
     }
+    // Each rendered-image figure sits beside the table it illustrates,
+    // with a numbered caption and an alt text that describes it.
+    let pos = |s: &str| {
+        index
+            .find(s)
+            .unwrap_or_else(|| panic!("index.md lacks {s:?}"))
+    };
+    let ground = pos("### Rendered images (Ureña, Fajardo & King 2013, Fig. 4 and 6)");
+    assert!(pos("### Relative RMS error, jittered points, all receivers") < ground);
+    assert!(ground < pos("### Samples at equal error"));
+    let triptych = pos("### Rendered images at 36 spp (Ureña 2000, Fig. 9)");
+    assert!(pos("### Adaptive vs stratified (Ureña 2000, Fig. 9: occluders removed)") < triptych);
+    assert!(triptych < pos("### Adaptive vs stratified with occluders"));
+    for (file, section) in [
+        ("images_ufk13.png", ground),
+        ("images_ufk13_mis.png", ground),
+        ("images_urena2000.png", triptych),
+    ] {
+        let link = pos(&format!("]({file})"));
+        assert!(link > section, "{file} is not in its section");
+        let line = index[..link].rsplit('\n').next().unwrap();
+        assert!(
+            line.starts_with("![Figure ") && line.len() > 300,
+            "{file}: alt text {line:?}"
+        );
+        let caption = &index[link..];
+        let caption = &caption[caption.find("*Figure ").expect("a caption")..];
+        let caption = caption.lines().next().unwrap();
+        assert!(
+            caption.contains("signed error") && caption.contains(&format!("(`{file}`)")),
+            "{file}: caption {}",
+            &caption[..caption.len().min(200)]
+        );
+        let check = verify_figure(&dir.join(file)).unwrap();
+        assert!(
+            check.width >= 400 && check.distinct_colors >= 50 && check.dark_pixels >= 1000,
+            "{file}: {check:?}"
+        );
+    }
+    let errors = std::fs::read_to_string(dir.join("images_errors.csv")).unwrap();
+    assert!(errors.contains("images_urena2000.png,\"adaptive K=0.001\",36,"));
+    assert!(errors.contains("images_ufk13_mis.png,rectangle+MIS(balance),16,"));
     let mut csv = 0;
     let mut figures = 0;
     for entry in std::fs::read_dir(&dir).unwrap() {

@@ -308,15 +308,37 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
             .and_then(|n| n.to_str())
             .is_some_and(|n| n.starts_with("variance_adaptive"))
     });
+    // Rendered images of both papers' scenes, each beside the table it
+    // illustrates: the standing light after the error tables, the
+    // triptych after the adaptive comparison without occluders.
+    let images = step(
+        "rendered images (Ureña et al. 2013, Fig. 4/6; Ureña 2000, Fig. 9)",
+        || {
+            use crate::studies::rendered_images::{ImagesConfig, run};
+            Ok(run(&if quick {
+                ImagesConfig::quick()
+            } else {
+                ImagesConfig::default()
+            })?)
+        },
+    )?;
+    images.write_csv(out)?;
+    let mut image_figs = images.write_figures(&figs)?;
+    let triptych_fig = image_figs.split_off(2);
+    let mut variance_md = var.to_markdown();
+    let at = variance_md
+        .find("### Samples at equal error")
+        .unwrap_or(variance_md.len());
+    variance_md.insert_str(at, &format!("{}\n", images.ground_markdown()));
     let mut ufk = String::new();
     // The variance figures beside their tables.
     let var_md = super::placement::place_figures(
-        &var.to_markdown(),
+        &variance_md,
         out,
         &variance_figs,
         super::placement::variance_anchor,
     );
-    section(&mut ufk, var_md, variance_figs);
+    section(&mut ufk, var_md, [variance_figs, image_figs].concat());
     let robust = var.write_robust_figure(&figs)?;
     section(
         &mut ufk,
@@ -348,12 +370,20 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
     let f = eq.write_figures(&figs)?;
     section(&mut ufk, eq.to_markdown(), f);
     let mut urena = String::new();
-    let adaptive_md = ["adaptive", "adaptive_occluded"]
-        .iter()
-        .filter_map(|s| var.extra_markdown(s))
-        .collect::<Vec<_>>()
-        .join("\n");
-    section(&mut urena, adaptive_md, adaptive_figs);
+    let adaptive_md = [
+        var.extra_markdown("adaptive"),
+        Some(images.triptych_markdown()),
+        var.extra_markdown("adaptive_occluded"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect::<Vec<_>>()
+    .join("\n");
+    section(
+        &mut urena,
+        adaptive_md,
+        [adaptive_figs, triptych_fig].concat(),
+    );
 
     let sa = step("solid angle of an object", || {
         let mut cfg = if quick {

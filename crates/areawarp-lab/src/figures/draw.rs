@@ -12,22 +12,22 @@ use std::sync::Once;
 
 /// The font family every figure uses: DejaVu Sans, registered once for the
 /// bitmap back end (the SVG back end writes the family name only).
-const FONT: &str = "sans-serif";
+pub(super) const FONT: &str = "sans-serif";
 
 static REGISTER_FONT: Once = Once::new();
 
-fn register_font() {
+pub(super) fn register_font() {
     REGISTER_FONT.call_once(|| {
         // DejaVu Sans is a valid TrueType font: registration cannot fail.
         let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
     });
 }
 
-fn err<E: std::fmt::Display>(e: E) -> io::Error {
+pub(super) fn err<E: std::fmt::Display>(e: E) -> io::Error {
     io::Error::other(e.to_string())
 }
 
-fn color(c: Rgb) -> RGBColor {
+pub(super) fn color(c: Rgb) -> RGBColor {
     RGBColor(c.0, c.1, c.2)
 }
 
@@ -133,7 +133,7 @@ pub(super) fn tick_label(v: f64) -> String {
 
 /// The title's font size: 16 pixels, smaller for a title too long for
 /// the width (DejaVu Sans averages about 0.55 em per character).
-fn title_size(title: &str, width: u32) -> u32 {
+pub(super) fn title_size(title: &str, width: u32) -> u32 {
     let chars = title.chars().count().max(1) as f64;
     ((width as f64 - 20.0) / (0.58 * chars)).clamp(9.0, 16.0) as u32
 }
@@ -638,7 +638,7 @@ fn render_svg(
 }
 
 /// Renders with the bitmap back end and encodes the PNG.
-fn render_png(
+pub(super) fn render_png(
     width: u32,
     height: u32,
     f: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> io::Result<usize>,

@@ -2,7 +2,8 @@
 //! axes, several series with markers, dashed reference lines and confidence
 //! bands, a legend beside the plot, never over it), scatter plots (optionally
 //! with equal units on both axes) and heat maps of a scalar over a rectangle
-//! with a colour bar. Every figure can be written as SVG (plotters' SVG back
+//! with a colour bar, and grids of false-colour images sharing colour
+//! scales ([`ImageGrid`]: rendered irradiance and signed-error maps). Every figure can be written as SVG (plotters' SVG back
 //! end) or as PNG (plotters' bitmap back end, encoded by the [`png`] crate),
 //! both with axes, ticks, labels and a title: text in the bitmaps uses DejaVu
 //! Sans from the `dejavu` crate, so no system font is needed.
@@ -33,6 +34,7 @@
 
 mod check;
 mod draw;
+mod grid;
 #[cfg(test)]
 mod tests;
 
@@ -44,6 +46,7 @@ pub use draw::{
     write_heat_map_png, write_heat_map_svg, write_line_plot_png, write_line_plot_svg,
     write_scatter_png, write_scatter_svg,
 };
+pub use grid::{ColorMap, ColorScale, ImageGrid, ImagePanel, diverging, write_image_grid_png};
 
 use std::io;
 use std::path::{Path, PathBuf};

@@ -18,6 +18,7 @@
 //! | [`adaptive_comparison`] | Ureña 2000 §5: stratified solid-angle and cosine-weighted sampling against adaptive sampling with K = ∞, 0.1, 0.001 at equal sample counts on a patterned triangle light with occluders; attached to the variance study |
 //! | [`light_cost`] (feature `mpfr`) | Ureña et al. 2013's cost claim: ns per sample of area, spherical-rectangle, triangle-pair, projected-polygon and cosine sampling of the standing light, alone and inside the estimator with 0, 3 and many occluders; construction per receiver; ratios to area sampling |
 //! | [`equal_time`] | the variance study's methods at equal time, without and with occluders: error against CPU µs per receiver of the whole estimator (timed here: thread CPU time, interleaved rounds, minimum over rounds) and efficiency 1/(MSE·time); the bias of cubic-only projected-polygon inversion |
+//! | [`rendered_images`] | false-colour irradiance images of the ground: Ureña, Fajardo & King 2013 Fig. 4/6 (reference, every light sampler with and without MIS at 1/4/16 spp, signed errors) and Ureña 2000 Fig. 9 (36 spp: unstratified, stratified, adaptive K = 0.1 and 0.001) with the studies' estimators |
 //! | [`variance`] | Ureña, Fajardo & King 2013, Fig. 4/7: relative RMS error vs spp of area, triangle-pair, spherical-rectangle and projected-polygon sampling of a standing rectangular light, with and without MIS; samples at equal error |
 
 pub mod adaptive_comparison;
@@ -29,6 +30,7 @@ pub mod paper_figures;
 
 pub mod precision;
 pub mod precision_choice;
+pub mod rendered_images;
 pub mod sample_figures;
 pub mod solid_angle_of_object;
 
