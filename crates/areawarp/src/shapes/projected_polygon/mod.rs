@@ -159,9 +159,10 @@ impl<T: Real> Frame<T> {
 ///
 /// # Density
 /// `pdf(p) = max(cos θ, 0) / Π` per steradian, `measure() = Π`, the
-/// projected solid angle of the clipped polygon (π × the form factor). The
-/// pdf is evaluated without testing that `p` lies in the polygon (use
-/// [`Warp::outside_by`]).
+/// projected solid angle of the clipped polygon (π × the form factor).
+/// [`Warp::pdf`] is 0 for a direction off the polygon (by
+/// [`Warp::outside_by`]); [`Warp::pdf_unchecked`] skips that test for a
+/// direction known to come from the map.
 ///
 /// # Example
 /// ```
