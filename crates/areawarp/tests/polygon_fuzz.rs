@@ -21,9 +21,13 @@
 use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
 use areawarp::{Real, Vec3, Warp, WarpError};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::Config;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
+
+#[path = "support/light_cases.rs"]
+mod light_cases;
+use light_cases::{power, runner, unit_values, v3};
 
 /// A polygon case: vertex directions (receiver normal +z), or corners in
 /// space seen from an observer on a receiver with a normal.
@@ -33,10 +37,6 @@ struct PolygonCase {
     vertices: Vec<[f64; 3]>,
     /// `Some((observer, normal))`: the vertices are points in space.
     seen_from: Option<([f64; 3], [f64; 3])>,
-}
-
-fn power(lo: f64, hi: f64) -> impl Strategy<Value = f64> + Clone {
-    (lo..hi).prop_map(|e: f64| 10f64.powf(e))
 }
 
 /// A convex polygon of `n` vertices on a small circle of angular radius
@@ -149,10 +149,6 @@ fn polygon_case() -> impl Strategy<Value = PolygonCase> {
     ]
 }
 
-fn v3<T: Real>(a: &[f64; 3]) -> Vec3<T> {
-    Vec3::new(T::from_f64(a[0]), T::from_f64(a[1]), T::from_f64(a[2]))
-}
-
 /// What happened to the shapes of one inversion and scalar.
 #[derive(Clone, Debug, Default)]
 struct Tally {
@@ -183,22 +179,6 @@ fn why_rejected(e: &WarpError) -> String {
         WarpError::NotConverged { what } => format!("not converged: {what}"),
         WarpError::Inconsistent { what } => format!("inconsistent: {what}"),
     }
-}
-
-fn unit_values<T: Real>() -> Vec<T> {
-    let subnormal = if T::precision() == 24 {
-        f64::from(f32::from_bits(1))
-    } else {
-        f64::from_bits(1)
-    };
-    vec![
-        T::zero(),
-        T::from_f64(subnormal),
-        T::from_f64(1e-7),
-        T::from_ratio(1, 2),
-        T::one() - &T::unit_roundoff(),
-        T::one(),
-    ]
 }
 
 /// The first bad sample of `w`, if any.
@@ -303,14 +283,11 @@ fn run<T: Real>(
 
 fn fuzz(cases: u32) -> BTreeMap<String, Tally> {
     let tallies = RefCell::new(BTreeMap::<String, Tally>::new());
-    let mut runner = TestRunner::new_with_rng(
-        Config {
-            cases,
-            failure_persistence: None,
-            ..Config::default()
-        },
-        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
-    );
+    let mut runner = runner(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
     let extra: Vec<(f64, f64)> = areawarp::harness::extremes::random_points(16, 3);
     runner
         .run(&polygon_case(), |case| {

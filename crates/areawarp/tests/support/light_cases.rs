@@ -1,5 +1,5 @@
 //! The random and near-degenerate light shapes of the fuzz (shared by
-//! `light_fuzz.rs` and `one_shot.rs`): spherical triangles (random, nearly
+//! `light_fuzz.rs`, `one_shot.rs`, and `polygon_fuzz.rs` for the helpers): spherical triangles (random, nearly
 //! coincident, nearly antipodal, nearly collinear vertices, points at scales
 //! 1e-30 … 1e30) and spherical rectangles (observers 1e-6 … 1e-300 off the
 //! plane, elongated, scales 1e-30 … 1e30), and the values of `u`, `v` every
@@ -63,7 +63,7 @@ pub fn direction() -> impl Strategy<Value = [f64; 3]> {
 }
 
 /// `10^e` for `e` uniform in `[lo, hi]`.
-pub fn power(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+pub fn power(lo: f64, hi: f64) -> impl Strategy<Value = f64> + Clone {
     (lo..hi).prop_map(|e| 10f64.powf(e))
 }
 
