@@ -1,5 +1,5 @@
 use super::*;
-use crate::harness::extremes::{EXTREMES, extremes_grid, random_points};
+use crate::harness::extremes::EXTREMES;
 use crate::shapes::test_support::{AxisBins, chi2_passes, roundtrip_passes};
 
 fn build<T: Real>(p: &[T]) -> Result<SphereLight<T>, WarpError> {
@@ -147,6 +147,7 @@ fn sphere_light_roundtrip_and_chi2() {
 #[cfg(feature = "mpfr")]
 mod mpfr {
     use super::*;
+    use crate::harness::extremes::{extremes_grid, random_points};
     use crate::harness::sensitivity::check_precision_conditioned;
     use crate::real::Mpfr256;
     use crate::shapes::test_support::harness_passes;
