@@ -10,6 +10,10 @@ use crate::recipe::chebyshev::{
     ChebyshevLevels, MAX_NODES, TAIL_ULPS, integral_coefficients_into, local, tail,
 };
 
+/// How many panels' masses [`ConditionalGrid::inverse`] keeps from its
+/// first pass (beyond that, the later panels are evaluated again).
+const MASS_CACHE: usize = 64;
+
 /// One t-panel: its ends, half-width, node count and nodes.
 #[derive(Clone, Debug)]
 struct TPanel<T> {
@@ -200,6 +204,11 @@ impl<T: Real> ConditionalGrid<T> {
     /// The panel where the conditional CDF crosses `y` (the first for
     /// y ≤ 0, the last for y ≥ 1), with the masses before and after it;
     /// leaves that panel's values in `buf`. `total` is Z(s).
+    ///
+    /// `masses[j]`, where present, is panel j's mass as
+    /// [`ConditionalGrid::total_with_values`] found it; those panels are
+    /// not evaluated again.
+    #[allow(clippy::too_many_arguments)]
     fn locate<D: AreaDensity<T>>(
         &self,
         def: &D,
@@ -208,11 +217,14 @@ impl<T: Real> ConditionalGrid<T> {
         total: &T,
         levels: &ChebyshevLevels<T>,
         buf: &mut [T],
+        masses: &[Option<T>],
     ) -> (usize, T, T, T) {
         let count = self.panels.len();
         let half = T::from_ratio(1, 2);
         let get = |j: usize, buf: &mut [T]| -> T {
-            if count == 1 {
+            if let Some(Some(m)) = masses.get(j) {
+                m.clone()
+            } else if count == 1 {
                 // The only panel's values are still in the buffer.
                 levels
                     .level(self.panels[0].n)
@@ -248,17 +260,24 @@ impl<T: Real> ConditionalGrid<T> {
         unreachable!("the loops return at their last panel")
     }
 
-    /// Z(s), leaving the values of the last panel in `buf`.
+    /// Z(s), leaving the values of the last panel in `buf` and each panel's
+    /// mass in `masses` (the first `masses.len()` panels), so that
+    /// [`ConditionalGrid::locate`] does not evaluate σw on them again.
     fn total_with_values<D: AreaDensity<T>>(
         &self,
         def: &D,
         s: &T,
         levels: &ChebyshevLevels<T>,
         buf: &mut [T],
+        masses: &mut [Option<T>],
     ) -> T {
         let mut total = T::zero();
         for j in 0..self.panels.len() {
-            total += &self.values(def, s, j, levels, buf);
+            let m = self.values(def, s, j, levels, buf);
+            total += &m;
+            if let Some(slot) = masses.get_mut(j) {
+                *slot = Some(m);
+            }
         }
         total
     }
@@ -273,12 +292,21 @@ impl<T: Real> ConditionalGrid<T> {
         levels: &ChebyshevLevels<T>,
     ) -> T {
         let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
-        let total = self.total_with_values(def, s, levels, &mut buf);
+        // The panels' masses from the pass that sums Z(s), kept on the stack
+        // (`None` costs no allocation, even for MPFR) so that finding the
+        // panel of v evaluates σw once per panel, not twice.
+        let mut masses: [Option<T>; MASS_CACHE] = core::array::from_fn(|_| None);
+        let total = self.total_with_values(def, s, levels, &mut buf, &mut masses);
         if !(total > T::zero()) || !total.is_finite() {
             return v.clamp(&T::zero(), &T::one());
         }
-        let (j, before, own, after) = self.locate(def, s, v, &total, levels, &mut buf);
+        let (j, before, own, after) = self.locate(def, s, v, &total, levels, &mut buf, &masses);
         let p = &self.panels[j];
+        if self.panels.len() > 1 && masses.get(j).is_some_and(Option::is_some) {
+            // locate took panel j's mass from the cache: its values, which
+            // the inversion needs, are evaluated here, once.
+            self.values(def, s, j, levels, &mut buf);
+        }
         let mut density: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
         let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
