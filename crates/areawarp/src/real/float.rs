@@ -3,7 +3,7 @@
 use super::Real;
 
 macro_rules! impl_real_for_float {
-    ($t:ident, $bits:expr, $u:ty) => {
+    ($t:ident, $bits:expr, $u:ty $(, rotate: $rotate:path)?) => {
         impl Real for $t {
             type Wide = f64;
             #[inline]
@@ -117,6 +117,12 @@ macro_rules! impl_real_for_float {
             fn sin_cos(&self) -> (Self, Self) {
                 $t::sin_cos(*self)
             }
+            $(
+                #[inline]
+                fn rotate_quarter_turns(&self, a: &Self, b: &Self, _half_pi: &Self) -> (Self, Self) {
+                    $rotate(*self, *a, *b)
+                }
+            )?
             #[inline]
             fn tan(&self) -> Self {
                 $t::tan(*self)
@@ -191,5 +197,5 @@ macro_rules! impl_real_for_float {
     };
 }
 
-impl_real_for_float!(f32, 24, u32);
+impl_real_for_float!(f32, 24, u32, rotate: super::quarter_turns::rotate_f32);
 impl_real_for_float!(f64, 53, u64);

@@ -11,6 +11,7 @@
 
 mod dual;
 mod float;
+mod quarter_turns;
 #[cfg(feature = "mpfr")]
 mod mpfr;
 
@@ -130,6 +131,24 @@ pub trait Real:
     /// Sine and cosine together.
     fn sin_cos(&self) -> (Self, Self) {
         (self.sin(), self.cos())
+    }
+    /// The point `(a, b)` rotated by the angle `(π/2)·self`, for a reduced
+    /// argument `|self| ≤ 1/2` (in quarter turns): `(a·c − b·s, a·s + b·c)`
+    /// with `(s, c) = sin_cos((π/2)·self)`; `half_pi` is π/2 in this type.
+    ///
+    /// The default rounds the angle and calls [`Real::sin_cos`] (dual
+    /// numbers carry the derivative of `self`, `a` and `b`). `f32` evaluates
+    /// minimax polynomials of the reduced argument in `f64` instead, with
+    /// each coordinate rounded once (no library call, no second range
+    /// reduction; `real::quarter_turns`). Larger `|self|` is outside the
+    /// contract (the `f32` polynomials lose accuracy there). NaN gives NaN.
+    #[inline]
+    fn rotate_quarter_turns(&self, a: &Self, b: &Self, half_pi: &Self) -> (Self, Self) {
+        let (s, c) = (self.clone() * half_pi).sin_cos();
+        (
+            c.clone() * a - &(s.clone() * b),
+            s * a + &(c * b),
+        )
     }
     /// Tangent.
     fn tan(&self) -> Self;

@@ -69,11 +69,11 @@ pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
     // r·i^q: exact.
     let rc = r.clone() * &T::from_f64(COS_Q[quadrant]);
     let rs = r.clone() * &T::from_f64(SIN_Q[quadrant]);
-    let (s, c) = (reduced * half_pi).sin_cos();
     // r (c + i s)·i^q: one of rc, rs is ±0, so each coordinate is one
     // rounded product (only the sign of a zero coordinate may differ from a
-    // rotation by swaps and negations).
-    (c.clone() * &rc - &(s.clone() * &rs), s * &rc + &(c * &rs))
+    // rotation by swaps and negations); for f32 one rounding from f64 of
+    // the polynomial kernel (`Real::rotate_quarter_turns`).
+    reduced.rotate_quarter_turns(&rc, &rs, half_pi)
 }
 
 /// The azimuth of `(x, y)` in turns, in `[0, 1)`: `atan2(y, x) / 2π`, shifted
