@@ -117,6 +117,15 @@ macro_rules! impl_real_for_float {
             fn sin_cos(&self) -> (Self, Self) {
                 $t::sin_cos(*self)
             }
+            #[inline]
+            fn split_quarter_turns(&self) -> (Self, usize) {
+                // 1.5·2^(p−1): the sum with 4v ∈ [0, 4] has unit spacing,
+                // so it is rounded to an integer, whose low bits are those
+                // of the significand.
+                let rounder = ((3 as $u) << ($bits - 2)) as $t;
+                let shifted = *self + rounder;
+                (shifted - rounder, (shifted.to_bits() & 3) as usize)
+            }
             $(
                 #[inline]
                 fn rotate_quarter_turns(&self, a: &Self, b: &Self, _half_pi: &Self) -> (Self, Self) {

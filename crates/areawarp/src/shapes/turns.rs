@@ -41,30 +41,11 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 /// while `sin_cos` runs, so that the point costs two products fewer.
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
-    // 1.5·2^52: adding it rounds any |x| < 2^51 to an integer (to nearest,
-    // ties to even), held in the low bits of the sum's significand.
-    const ROUNDER: f64 = 6_755_399_441_055_744.0;
     // cos(qπ/2) and sin(qπ/2) by q mod 4.
     const COS_Q: [f64; 4] = [1.0, 0.0, -1.0, 0.0];
     const SIN_Q: [f64; 4] = [0.0, 1.0, 0.0, -1.0];
     let four_v = v.clone() * &T::from_i64(4);
-    let (q, quadrant) = if T::precision() <= 53 {
-        // In T itself (f32, f64: no round trip through f64 for f32):
-        // 1.5·2^(p−1) rounds 4v ∈ [0, 4] to the nearest integer, ties to
-        // even, as the f64 route below does (4v is exact in both).
-        let rounder = T::from_i64(3) * &T::exp2i(T::precision() as i32 - 2);
-        // q as a constant (through f64, exact): for dual numbers the
-        // derivative stays in `reduced`.
-        let q = ((four_v.clone() + &rounder) - &rounder).to_f64();
-        // A NaN q casts to 0 (the coordinates stay NaN through `reduced`).
-        (T::from_f64(q), (q as i64 & 3) as usize)
-    } else {
-        let shifted = v.to_f64() * 4.0 + ROUNDER;
-        (
-            T::from_f64(shifted - ROUNDER),
-            (shifted.to_bits() & 3) as usize,
-        )
-    };
+    let (q, quadrant) = four_v.split_quarter_turns();
     let reduced = four_v - &q;
     // r·i^q: exact.
     let rc = r.clone() * &T::from_f64(COS_Q[quadrant]);
