@@ -207,4 +207,4 @@ macro_rules! impl_real_for_float {
 }
 
 impl_real_for_float!(f32, 24, u32, rotate: super::quarter_turns::rotate_f32);
-impl_real_for_float!(f64, 53, u64);
+impl_real_for_float!(f64, 53, u64, rotate: super::quarter_turns::rotate_f64);
