@@ -11,9 +11,9 @@
 
 mod dual;
 mod float;
-mod quarter_turns;
 #[cfg(feature = "mpfr")]
 mod mpfr;
+mod quarter_turns;
 
 pub use dual::Dual2;
 #[cfg(feature = "mpfr")]
@@ -168,18 +168,17 @@ pub trait Real:
     /// with `(s, c) = sin_cos((π/2)·self)`; `half_pi` is π/2 in this type.
     ///
     /// The default rounds the angle and calls [`Real::sin_cos`] (dual
-    /// numbers carry the derivative of `self`, `a` and `b`). `f32` evaluates
-    /// minimax polynomials of the reduced argument in `f64` instead, with
-    /// each coordinate rounded once (no library call, no second range
-    /// reduction; `real::quarter_turns`). Larger `|self|` is outside the
-    /// contract (the `f32` polynomials lose accuracy there). NaN gives NaN.
+    /// numbers carry the derivative of `self`, `a` and `b`). `f32` and `f64`
+    /// evaluate minimax polynomials of the reduced argument instead (`f32`
+    /// in `f64`, each coordinate rounded once; `f64` with its leading terms
+    /// kept exact), more accurate than the library route and without its
+    /// call and second range reduction (`real::quarter_turns`). Larger
+    /// `|self|` is outside the contract (the polynomials lose accuracy
+    /// there). NaN gives NaN.
     #[inline]
     fn rotate_quarter_turns(&self, a: &Self, b: &Self, half_pi: &Self) -> (Self, Self) {
         let (s, c) = (self.clone() * half_pi).sin_cos();
-        (
-            c.clone() * a - &(s.clone() * b),
-            s * a + &(c * b),
-        )
+        (c.clone() * a - &(s.clone() * b), s * a + &(c * b))
     }
     /// Tangent.
     fn tan(&self) -> Self;

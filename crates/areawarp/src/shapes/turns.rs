@@ -16,16 +16,14 @@ use crate::real::Real;
 /// only the reduced angle `(π/2)·r ∈ [−π/4, π/4]` goes through `sin_cos`;
 /// the quadrant `q mod 4` rotates the result exactly.
 ///
-/// Cost (see [`polar_turns`], which the maps call): `q` is found in `f64`
-/// by the round-to-integer addition of
-/// `1.5·2^52` (no `floor`, a library call on x86-64 without SSE4.1), whose
-/// last significand bits are `q mod 4`; the rotation is a product with the
-/// quadrant's exact cosine and sine, not a branch on the (random) quadrant,
-/// whose mispredictions would cost more than the rest of a map. For MPFR,
-/// `q` comes from the `f64` nearest `4v` and may be one off the integer
-/// nearest `4v` when `4v` is within 2^-53 of a half-integer: `r` then lies
-/// just beyond ±1/2, which changes nothing (exact integer `q`, the same
-/// angle, `sin_cos` well conditioned there).
+/// Cost (see [`polar_turns`], which the maps call): `q` and `q mod 4` come
+/// from [`Real::split_quarter_turns`] (a round-to-integer addition, no
+/// `floor` call), the rotation by the quadrant is a product with its exact
+/// cosine and sine, not a branch on the (random) quadrant, whose
+/// mispredictions would cost more than the rest of a map, and the sine and
+/// cosine of the reduced angle come from [`Real::rotate_quarter_turns`]
+/// (for `f32`/`f64` polynomial kernels of `r` itself, no library call;
+/// `docs/quarter-turns.md`).
 ///
 /// `half_pi` is the caller's precomputed `π/2`. Dual numbers: `q` is an
 /// integer constant, so `r` carries the full derivative `4·dv`. A NaN `v`
