@@ -13,6 +13,7 @@
 //! | [`hemisphere`] | The uniform hemisphere. |
 //! | [`phong`] | The Phong lobe (cosine-power hemisphere). |
 //! | [`sphere`] | The sphere by Archimedes' theorem (Shao and Badler 1996). |
+//! | [`quarter_turns`] | The azimuth `2πv`: exact quarter-turn reduction and the `f32`/`f64` sine–cosine kernels of the reduced angle. |
 //! | [`spherical_triangle`] | The spherical triangle (Arvo 1995), literal and robust. |
 //! | [`spherical_rectangle`] | The spherical rectangle (Ureña, Fajardo and King 2013), literal and robust. |
 //! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
@@ -45,6 +46,9 @@ pub mod phong {}
 
 #[doc = include_str!("../docs/sphere.md")]
 pub mod sphere {}
+
+#[doc = include_str!("../docs/quarter-turns.md")]
+pub mod quarter_turns {}
 
 #[doc = include_str!("../docs/spherical-triangle.md")]
 pub mod spherical_triangle {}

@@ -3,7 +3,7 @@
 use super::Real;
 
 macro_rules! impl_real_for_float {
-    ($t:ident, $bits:expr, $u:ty) => {
+    ($t:ident, $bits:expr, $u:ty $(, rotate: $rotate:path)?) => {
         impl Real for $t {
             type Wide = f64;
             #[inline]
@@ -118,6 +118,21 @@ macro_rules! impl_real_for_float {
                 $t::sin_cos(*self)
             }
             #[inline]
+            fn split_quarter_turns(&self) -> (Self, usize) {
+                // 1.5·2^(p−1): the sum with 4v ∈ [0, 4] has unit spacing,
+                // so it is rounded to an integer, whose low bits are those
+                // of the significand.
+                let rounder = ((3 as $u) << ($bits - 2)) as $t;
+                let shifted = *self + rounder;
+                (shifted - rounder, (shifted.to_bits() & 3) as usize)
+            }
+            $(
+                #[inline]
+                fn rotate_quarter_turns(&self, a: &Self, b: &Self, _half_pi: &Self) -> (Self, Self) {
+                    $rotate(*self, *a, *b)
+                }
+            )?
+            #[inline]
             fn tan(&self) -> Self {
                 $t::tan(*self)
             }
@@ -191,5 +206,5 @@ macro_rules! impl_real_for_float {
     };
 }
 
-impl_real_for_float!(f32, 24, u32);
-impl_real_for_float!(f64, 53, u64);
+impl_real_for_float!(f32, 24, u32, rotate: super::quarter_turns::rotate_f32);
+impl_real_for_float!(f64, 53, u64, rotate: super::quarter_turns::rotate_f64);

@@ -13,6 +13,7 @@ mod dual;
 mod float;
 #[cfg(feature = "mpfr")]
 mod mpfr;
+mod quarter_turns;
 
 pub use dual::Dual2;
 #[cfg(feature = "mpfr")]
@@ -130,6 +131,54 @@ pub trait Real:
     /// Sine and cosine together.
     fn sin_cos(&self) -> (Self, Self) {
         (self.sin(), self.cos())
+    }
+    /// For `self = 4v`, `v ∈ [0, 1]` (an angle in quarter turns): the
+    /// integer `q` nearest `self` (ties to even), as a constant (for
+    /// [`Dual2`] the derivative stays in `self − q`), and `q mod 4`.
+    /// `self − q ∈ [−1/2, 1/2]` is then exact (Sterbenz).
+    ///
+    /// `f32` and `f64` add and subtract `1.5·2^(p−1)`, which rounds to an
+    /// integer held in the low bits of the sum's significand (no `floor`
+    /// call, no saturating float-to-integer conversion). The default does
+    /// the same in `Self` for `p ≤ 53`, and otherwise goes through the
+    /// `f64` nearest `self`, whose `q` may be one off the integer nearest
+    /// `self` when `self` is within `2^-53` of a half-integer: `self − q`
+    /// then lies just beyond ±1/2, which changes nothing (the same angle,
+    /// sine and cosine well conditioned there). NaN gives a NaN `q` (the
+    /// quadrant is then arbitrary).
+    fn split_quarter_turns(&self) -> (Self, usize) {
+        if Self::precision() <= 53 {
+            let rounder = Self::from_i64(3) * &Self::exp2i(Self::precision() as i32 - 2);
+            // q as a constant, through f64 (exact).
+            let q = ((self.clone() + &rounder) - &rounder).to_f64();
+            // A NaN q casts to 0.
+            (Self::from_f64(q), (q as i64 & 3) as usize)
+        } else {
+            // 1.5·2^52.
+            let rounder = (3u64 << 51) as f64;
+            let shifted = self.to_f64() + rounder;
+            (
+                Self::from_f64(shifted - rounder),
+                (shifted.to_bits() & 3) as usize,
+            )
+        }
+    }
+    /// The point `(a, b)` rotated by the angle `(π/2)·self`, for a reduced
+    /// argument `|self| ≤ 1/2` (in quarter turns): `(a·c − b·s, a·s + b·c)`
+    /// with `(s, c) = sin_cos((π/2)·self)`; `half_pi` is π/2 in this type.
+    ///
+    /// The default rounds the angle and calls [`Real::sin_cos`] (dual
+    /// numbers carry the derivative of `self`, `a` and `b`). `f32` and `f64`
+    /// evaluate minimax polynomials of the reduced argument instead (`f32`
+    /// in `f64`, each coordinate rounded once; `f64` with its leading terms
+    /// kept exact), more accurate than the library route and without its
+    /// call and second range reduction (`real::quarter_turns`). Larger
+    /// `|self|` is outside the contract (the polynomials lose accuracy
+    /// there). NaN gives NaN.
+    #[inline]
+    fn rotate_quarter_turns(&self, a: &Self, b: &Self, half_pi: &Self) -> (Self, Self) {
+        let (s, c) = (self.clone() * half_pi).sin_cos();
+        (c.clone() * a - &(s.clone() * b), s * a + &(c * b))
     }
     /// Tangent.
     fn tan(&self) -> Self;

@@ -52,6 +52,7 @@ use crate::warp::{Warp, WarpFamily};
 #[derive(Clone, Debug)]
 pub struct ConcentricDisk<T> {
     quarter_pi: T,
+    half_pi: T,
     four_over_pi: T,
     pi: T,
     inv_pi: T,
@@ -65,6 +66,7 @@ impl<T: Real> ConcentricDisk<T> {
         let pi = T::pi();
         ConcentricDisk {
             quarter_pi: pi.clone() / T::from_i64(4),
+            half_pi: pi.clone() / T::from_i64(2),
             four_over_pi: T::from_i64(4) / &pi,
             inv_pi: T::one() / &pi,
             pi,
@@ -89,18 +91,21 @@ impl<T: Real> Warp<T> for ConcentricDisk<T> {
     fn map(&self, u: &T, v: &T) -> Vec2<T> {
         let a = clamp01(u) * T::from_i64(2) - &T::one();
         let b = clamp01(v) * T::from_i64(2) - &T::one();
+        let zero = T::zero();
         if a.abs() > b.abs() {
-            let x = self.quarter_pi.clone() * &(b / &a);
-            let (s, c) = x.sin_cos();
-            Vec2::new(a.clone() * &c, a * &s)
-        } else if b == T::zero() {
+            // a·(cos x, sin x): (a, 0) rotated by x = (π/4)·(b/a), i.e. by
+            // b/(2a) quarter turns (2a exact).
+            let (x, y) = (b / &(a.clone() + &a)).rotate_quarter_turns(&a, &zero, &self.half_pi);
+            Vec2::new(x, y)
+        } else if b == zero {
             // The center (a = b = 0): (0, 0), written as the limit of the
             // second branch so that dual numbers carry its derivatives.
             Vec2::new(self.quarter_pi.clone() * &a, b)
         } else {
-            let x = self.quarter_pi.clone() * &(a / &b);
-            let (s, c) = x.sin_cos();
-            Vec2::new(b.clone() * &s, b * &c)
+            // b·(sin x, cos x), x = (π/4)·(a/b): (b, 0) rotated by x,
+            // coordinates swapped.
+            let (y, x) = (a / &(b.clone() + &b)).rotate_quarter_turns(&b, &zero, &self.half_pi);
+            Vec2::new(x, y)
         }
     }
 

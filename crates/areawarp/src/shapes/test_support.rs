@@ -295,3 +295,20 @@ pub(crate) fn harness_passes_within<W: WarpFamily<f64>>(
     }
     [j.max_rel_deviation, p32.max_ulps, p64.max_ulps]
 }
+
+/// The harness figures (precision against 256 bits, Jacobian) of the
+/// simple warps of the `simple_warps` bench, printed with `--nocapture`:
+/// the accuracy side of the speed comparison with the hand-written
+/// baselines.
+#[cfg(feature = "mpfr")]
+#[test]
+fn simple_warps_harness() {
+    use crate::shapes::{ConcentricDisk, PhongLobe, PlanarTriangle, Sphere};
+    use crate::vector::Vec3;
+    let v = |x: f64, y: f64, z: f64| Vec3::new(x, y, z);
+    harness_passes("sphere", &Sphere::<f64>::new(), 4.0);
+    harness_passes("cosine", &PhongLobe::<f64>::new(1.0).unwrap(), 4.0);
+    harness_passes("concentric-disk", &ConcentricDisk::<f64>::new(), 4.0);
+    let tri = PlanarTriangle::new(v(0.3, -0.2, 1.1), v(2.1, 0.4, 0.7), v(0.9, 1.7, 1.3)).unwrap();
+    harness_passes("planar-triangle", &tri, 4.0);
+}

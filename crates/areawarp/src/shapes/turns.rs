@@ -16,16 +16,14 @@ use crate::real::Real;
 /// only the reduced angle `(π/2)·r ∈ [−π/4, π/4]` goes through `sin_cos`;
 /// the quadrant `q mod 4` rotates the result exactly.
 ///
-/// Cost (see [`polar_turns`], which the maps call): `q` is found in `f64`
-/// by the round-to-integer addition of
-/// `1.5·2^52` (no `floor`, a library call on x86-64 without SSE4.1), whose
-/// last significand bits are `q mod 4`; the rotation is a product with the
-/// quadrant's exact cosine and sine, not a branch on the (random) quadrant,
-/// whose mispredictions would cost more than the rest of a map. For MPFR,
-/// `q` comes from the `f64` nearest `4v` and may be one off the integer
-/// nearest `4v` when `4v` is within 2^-53 of a half-integer: `r` then lies
-/// just beyond ±1/2, which changes nothing (exact integer `q`, the same
-/// angle, `sin_cos` well conditioned there).
+/// Cost (see [`polar_turns`], which the maps call): `q` and `q mod 4` come
+/// from [`Real::split_quarter_turns`] (a round-to-integer addition, no
+/// `floor` call), the rotation by the quadrant is a product with its exact
+/// cosine and sine, not a branch on the (random) quadrant, whose
+/// mispredictions would cost more than the rest of a map, and the sine and
+/// cosine of the reduced angle come from [`Real::rotate_quarter_turns`]
+/// (for `f32`/`f64` polynomial kernels of `r` itself, no library call;
+/// `docs/quarter-turns.md`).
 ///
 /// `half_pi` is the caller's precomputed `π/2`. Dual numbers: `q` is an
 /// integer constant, so `r` carries the full derivative `4·dv`. A NaN `v`
@@ -41,39 +39,20 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 /// while `sin_cos` runs, so that the point costs two products fewer.
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
-    // 1.5·2^52: adding it rounds any |x| < 2^51 to an integer (to nearest,
-    // ties to even), held in the low bits of the sum's significand.
-    const ROUNDER: f64 = 6_755_399_441_055_744.0;
     // cos(qπ/2) and sin(qπ/2) by q mod 4.
     const COS_Q: [f64; 4] = [1.0, 0.0, -1.0, 0.0];
     const SIN_Q: [f64; 4] = [0.0, 1.0, 0.0, -1.0];
     let four_v = v.clone() * &T::from_i64(4);
-    let (q, quadrant) = if T::precision() <= 53 {
-        // In T itself (f32, f64: no round trip through f64 for f32):
-        // 1.5·2^(p−1) rounds 4v ∈ [0, 4] to the nearest integer, ties to
-        // even, as the f64 route below does (4v is exact in both).
-        let rounder = T::from_i64(3) * &T::exp2i(T::precision() as i32 - 2);
-        // q as a constant (through f64, exact): for dual numbers the
-        // derivative stays in `reduced`.
-        let q = ((four_v.clone() + &rounder) - &rounder).to_f64();
-        // A NaN q casts to 0 (the coordinates stay NaN through `reduced`).
-        (T::from_f64(q), (q as i64 & 3) as usize)
-    } else {
-        let shifted = v.to_f64() * 4.0 + ROUNDER;
-        (
-            T::from_f64(shifted - ROUNDER),
-            (shifted.to_bits() & 3) as usize,
-        )
-    };
+    let (q, quadrant) = four_v.split_quarter_turns();
     let reduced = four_v - &q;
     // r·i^q: exact.
     let rc = r.clone() * &T::from_f64(COS_Q[quadrant]);
     let rs = r.clone() * &T::from_f64(SIN_Q[quadrant]);
-    let (s, c) = (reduced * half_pi).sin_cos();
     // r (c + i s)·i^q: one of rc, rs is ±0, so each coordinate is one
     // rounded product (only the sign of a zero coordinate may differ from a
-    // rotation by swaps and negations).
-    (c.clone() * &rc - &(s.clone() * &rs), s * &rc + &(c * &rs))
+    // rotation by swaps and negations); for f32 one rounding from f64 of
+    // the polynomial kernel (`Real::rotate_quarter_turns`).
+    reduced.rotate_quarter_turns(&rc, &rs, half_pi)
 }
 
 /// The azimuth of `(x, y)` in turns, in `[0, 1)`: `atan2(y, x) / 2π`, shifted
