@@ -2,6 +2,14 @@
 
 use super::Real;
 
+/// `2^e` for an exponent outside the normal range (subnormal, zero or
+/// infinite result): the rare case of [`Real::exp2i`], kept out of line.
+#[cold]
+#[inline(never)]
+fn exp2i_outside_normal<T: Real>(e: i32) -> T {
+    T::from_i64(2).powi(e)
+}
+
 macro_rules! impl_real_for_float {
     ($t:ident, $bits:expr, $u:ty) => {
         impl Real for $t {
@@ -66,7 +74,9 @@ macro_rules! impl_real_for_float {
                 if ($t::MIN_EXP - 1..=BIAS).contains(&e) {
                     $t::from_bits(((e + BIAS) as $u) << ($t::MANTISSA_DIGITS - 1))
                 } else {
-                    (2.0 as $t).powi(e)
+                    // Out of line: LLVM treats `powi` as speculatable and
+                    // would otherwise call it on every path, then discard it.
+                    exp2i_outside_normal::<$t>(e)
                 }
             }
             #[inline]
