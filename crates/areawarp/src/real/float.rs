@@ -2,6 +2,22 @@
 
 use super::Real;
 
+/// `2^e` for an exponent outside the normal range (subnormal, zero or
+/// infinite result): the rare case of [`Real::exp2i`], kept out of line.
+/// Below the normal range, the product of two (normal, or recursively
+/// formed) powers of two `2^⌈e/2⌉·2^⌊e/2⌋`: exact where `2^e` is
+/// representable, correctly rounded to zero below (`powi` computes
+/// `1/2^|e|`, which overflows to zero for `e < −max_exp`).
+#[cold]
+#[inline(never)]
+fn exp2i_outside_normal<T: Real>(e: i32) -> T {
+    if e > 0 {
+        return T::from_i64(2).powi(e);
+    }
+    let half = e / 2;
+    T::exp2i(half) * &T::exp2i(e - half)
+}
+
 macro_rules! impl_real_for_float {
     ($t:ident, $bits:expr, $u:ty $(, rotate: $rotate:path)?) => {
         impl Real for $t {
@@ -66,7 +82,9 @@ macro_rules! impl_real_for_float {
                 if ($t::MIN_EXP - 1..=BIAS).contains(&e) {
                     $t::from_bits(((e + BIAS) as $u) << ($t::MANTISSA_DIGITS - 1))
                 } else {
-                    (2.0 as $t).powi(e)
+                    // Out of line: LLVM treats `powi` as speculatable and
+                    // would otherwise call it on every path, then discard it.
+                    exp2i_outside_normal::<$t>(e)
                 }
             }
             #[inline]
