@@ -151,6 +151,19 @@ fn horizon_crossing<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
     scaled_unit(&p).unwrap_or_else(|| a.clone())
 }
 
+/// `a × b` for unit vectors, computed as `a × (b ∓ a)`: for nearly
+/// coincident (or nearly antipodal) `a` and `b` the difference (sum) is
+/// exact, and the product keeps its relative accuracy where the plain
+/// cross product of two nearly parallel vectors loses it all (a normal
+/// wrong by ~u/|a − b|, enough to flip an edge between inner and outer).
+pub(super) fn edge_normal<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    if a.dot(b) >= T::zero() {
+        a.cross(&b.sub(a))
+    } else {
+        a.cross(&b.add(a))
+    }
+}
+
 /// Clips the oriented polygon against the horizon `z ≥ 0`: the parts of
 /// its edges above the horizon, plus arcs of the horizon from each point
 /// where the boundary goes below to the next point (counter-clockwise, the
@@ -164,7 +177,7 @@ pub(super) fn clip<T: Real>(v: &[Vec3<T>]) -> Result<Vec<Arc<T>>, WarpError> {
     let mut entries: Vec<Vec3<T>> = Vec::new();
     for i in 0..n {
         let (a, b) = (&v[i], &v[(i + 1) % n]);
-        let normal = match scaled_unit(&a.cross(b)) {
+        let normal = match scaled_unit(&edge_normal(a, b)) {
             Some(m) => m,
             None => return Err(degenerate("coincident consecutive vertices")),
         };
@@ -487,11 +500,42 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             let sm = ((T::one() - &c1) * &half).sqrt();
             (sm.clone(), s1.clone() / &(sm * &T::from_i64(2)))
         };
-        lune_edges.sort_by(|p, q| {
-            r2_at(&p.1, Side::Start, &cm, &sm)
-                .partial_cmp(&r2_at(&q.1, Side::Start, &cm, &sm))
-                .unwrap_or(core::cmp::Ordering::Equal)
-        });
+        // Edge p lies nearer the pole than q at the middle meridian when
+        // cot θ_p > cot θ_q, cot θ = −g/n_z: the sign of
+        // D = n_z,p g_q − n_z,q g_p = A cos x + B sin x times that of
+        // n_z,p n_z,q. Where p and q meet on a bounding meridian, A is 0
+        // there (exactly: the sign is B's, however thin the lune), and
+        // cot θ keeps its relative accuracy near the horizon, where r²
+        // rounds to 1 (a comparison of r² would tie).
+        let nearer_pole = |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>)| -> bool {
+            let d = |si: usize, a_zero: bool, c: &T, s: &T| -> T {
+                let (ps, qs) = (&p.1.side[si], &q.1.side[si]);
+                let b = p.1.nz.clone() * &qs.k0 - &(q.1.nz.clone() * &ps.k0);
+                if a_zero {
+                    return b * s;
+                }
+                let a = p.1.nz.clone() * &qs.g0 - &(q.1.nz.clone() * &ps.g0);
+                a * c + &(b * s)
+            };
+            let d = if share_at(p.0, q.0, k) {
+                d(0, true, &cm, &sm)
+            } else if share_at(p.0, q.0, (k + 1) % m) {
+                d(1, true, &cm, &sm)
+            } else {
+                d(0, false, &cm, &sm)
+            };
+            let flip = (p.1.nz < zero) != (q.1.nz < zero);
+            if flip { d < zero } else { d > zero }
+        };
+        // Insertion sort (stable, a handful of edges per lune, no
+        // allocation, and no total order demanded of a rounded comparison).
+        for i in 1..lune_edges.len() {
+            let mut j = i;
+            while j > 0 && nearer_pole(&lune_edges[j], &lune_edges[j - 1]) {
+                lune_edges.swap(j, j - 1);
+                j -= 1;
+            }
+        }
         for side in [Side::Start, Side::End] {
             for pair in lune_edges.windows(2) {
                 let (r0, r1) = (
