@@ -372,11 +372,12 @@ impl<T: Real> ProjectedPolygon<T> {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
-            let built_w = clip(&vertices_w).and_then(|arcs| partition(arcs, solid_angle_w))?;
+            let built_w = clip(&vertices_w, Vec3::clone)
+                .and_then(|arcs| partition(arcs, solid_angle_w))?;
             narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
         } else {
-            let vertices: Vec<Vec3<T>> = vertices_w.iter().map(narrow3::<T>).collect();
-            clip(&vertices).and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
+            clip(&vertices_w, narrow3::<T>)
+                .and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
         };
         let Built {
             arcs,
