@@ -556,28 +556,35 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         // there (exactly: the sign is B's, however thin the lune), and
         // cot θ keeps its relative accuracy near the horizon, where r²
         // rounds to 1 (a comparison of r² would tie).
-        // (D, a bound on its rounding error) at the middle meridian.
-        let separation = |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>)| -> (T, T) {
-            let (si, a_zero) = if share_at(p.0, q.0, k) {
-                (0, true)
-            } else if share_at(p.0, q.0, (k + 1) % m) {
-                (1, true)
-            } else {
-                (0, false)
+        // D at the middle meridian, and (if `bound`) a bound on its
+        // rounding error (else 0).
+        let separation =
+            |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>), bound: bool| -> (T, T) {
+                let (si, a_zero) = if share_at(p.0, q.0, k) {
+                    (0, true)
+                } else if share_at(p.0, q.0, (k + 1) % m) {
+                    (1, true)
+                } else {
+                    (0, false)
+                };
+                let (ps, qs) = (&p.1.side[si], &q.1.side[si]);
+                let (b1, b2) = (p.1.nz.clone() * &qs.k0, q.1.nz.clone() * &ps.k0);
+                let mut err = T::zero();
+                if bound {
+                    err = (b1.abs() + &b2.abs()) * &sm;
+                }
+                let mut d = (b1 - &b2) * &sm;
+                if !a_zero {
+                    let (a1, a2) = (p.1.nz.clone() * &qs.g0, q.1.nz.clone() * &ps.g0);
+                    if bound {
+                        err += &((a1.abs() + &a2.abs()) * &cm.abs());
+                    }
+                    d += &((a1 - &a2) * &cm);
+                }
+                (d, err * &T::from_i64(8) * &u)
             };
-            let (ps, qs) = (&p.1.side[si], &q.1.side[si]);
-            let (b1, b2) = (p.1.nz.clone() * &qs.k0, q.1.nz.clone() * &ps.k0);
-            let mut err = (b1.abs() + &b2.abs()) * &sm;
-            let mut d = (b1 - &b2) * &sm;
-            if !a_zero {
-                let (a1, a2) = (p.1.nz.clone() * &qs.g0, q.1.nz.clone() * &ps.g0);
-                err += &((a1.abs() + &a2.abs()) * &cm.abs());
-                d += &((a1 - &a2) * &cm);
-            }
-            (d, err * &T::from_i64(8) * &u)
-        };
         let nearer_pole = |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>)| -> bool {
-            let d = separation(p, q).0;
+            let d = separation(p, q, false).0;
             let flip = (p.1.nz < zero) != (q.1.nz < zero);
             if flip { d < zero } else { d > zero }
         };
@@ -613,7 +620,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             // (a polygon narrower than the rounding of its vertices, whose
             // interior is not resolved): no projected area, not a crossing.
             if lune_edges.windows(2).any(|p| {
-                let (d, err) = separation(&p[0], &p[1]);
+                let (d, err) = separation(&p[0], &p[1], true);
                 d.abs() <= err
             }) {
                 return Err(degenerate(
