@@ -20,7 +20,6 @@
 
 use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
 use areawarp::{Real, Vec3, Warp, WarpError};
-use proptest::prelude::*;
 use proptest::test_runner::Config;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
