@@ -40,8 +40,8 @@ pub(super) struct Built<T> {
     pub solid_angle: T,
 }
 
-/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is scaled by
-/// the reciprocal of its largest coordinate first, after which `|v|` is a plain square root
+/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is divided by
+/// its largest coordinate first, after which `|v|` is a plain square root
 /// (no overflow or underflow for huge or subnormal input, and none of the
 /// two `hypot` calls of [`Vec3::normalized`]).
 pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
@@ -49,10 +49,9 @@ pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
     if !(m > T::zero() && m.is_finite()) {
         return None;
     }
-    // Two divisions, not six: the scaled vector needs no exact quotients.
-    let w = v.scale(&(T::one() / &m));
+    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
     let n = w.dot(&w).sqrt();
-    Some(w.scale(&(T::one() / &n)))
+    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
 }
 
 /// `v / |v|` with the errors a polygon vertex or a receiver normal gets:
@@ -333,8 +332,8 @@ fn meridian<T: Real>(p: &Vec3<T>) -> (T, (T, T)) {
     let az = p.y.atan2(&p.x);
     let r2 = p.x.square() + &p.y.square();
     let cs = if r2 > T::unit_roundoff().powi(8) {
-        let inv = T::one() / &r2.sqrt();
-        (p.x.clone() * &inv, p.y.clone() * &inv)
+        let r = r2.sqrt();
+        (p.x.clone() / &r, p.y.clone() / &r)
     } else {
         let (s, c) = az.sin_cos();
         (c, s)
