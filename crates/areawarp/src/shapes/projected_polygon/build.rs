@@ -151,20 +151,41 @@ fn horizon_crossing<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
     scaled_unit(&p).unwrap_or_else(|| a.clone())
 }
 
+/// `a × b` for unit vectors, computed as `a × (b ∓ a)`: for nearly
+/// coincident (or nearly antipodal) `a` and `b` the difference (sum) is
+/// exact, and the product keeps its relative accuracy where the plain
+/// cross product of two nearly parallel vectors loses it all (a normal
+/// wrong by ~u/|a − b|, enough to flip an edge between inner and outer).
+pub(super) fn edge_normal<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    if a.dot(b) >= T::zero() {
+        a.cross(&b.sub(a))
+    } else {
+        a.cross(&b.add(a))
+    }
+}
+
 /// Clips the oriented polygon against the horizon `z ≥ 0`: the parts of
 /// its edges above the horizon, plus arcs of the horizon from each point
 /// where the boundary goes below to the next point (counter-clockwise, the
 /// direction that keeps the region on the left) where it comes back.
 /// Horizon arcs are split into pieces of at most a quarter turn.
-pub(super) fn clip<T: Real>(v: &[Vec3<T>]) -> Result<Vec<Arc<T>>, WarpError> {
+/// The vertices `v` come in any type `W`, converted by `conv` on the way
+/// (the wide vertices of [`prepare`], without a converted copy).
+pub(super) fn clip<W, T: Real>(
+    v: &[Vec3<W>],
+    conv: impl Fn(&Vec3<W>) -> Vec3<T>,
+) -> Result<Vec<Arc<T>>, WarpError> {
     let n = v.len();
     let zero = T::zero();
     let mut arcs = Vec::with_capacity(n + 4);
     let mut exits: Vec<Vec3<T>> = Vec::new();
     let mut entries: Vec<Vec3<T>> = Vec::new();
+    let mut b = conv(&v[0]);
     for i in 0..n {
-        let (a, b) = (&v[i], &v[(i + 1) % n]);
-        let normal = match scaled_unit(&a.cross(b)) {
+        let a = b;
+        b = conv(&v[(i + 1) % n]);
+        let (a, b) = (&a, &b);
+        let normal = match scaled_unit(&edge_normal(a, b)) {
             Some(m) => m,
             None => return Err(degenerate("coincident consecutive vertices")),
         };
@@ -289,6 +310,37 @@ fn arc_range<T: Real>(arc: &Arc<T>) -> EdgeRange<T> {
     }
 }
 
+/// An arc of the clipped boundary that sweeps azimuth, as the partition
+/// uses it.
+struct UsableArc<'a, T> {
+    arc: &'a Arc<T>,
+    /// Azimuths of its start and end.
+    az: (T, T),
+    /// (cos, sin) of the azimuths of its start and end.
+    cs: [(T, T); 2],
+    /// Indices of the (merged) meridians of its start and end.
+    ends: (usize, usize),
+    /// Its range of r² and z² ([`arc_range`]).
+    whole: EdgeRange<T>,
+}
+
+/// The azimuth of the point `p` (off the pole) and its (cos, sin), the
+/// latter from `p` itself: a square root, not a `sin_cos` of the rounded
+/// angle (the fallback for a point within 10⁻⁶⁴-ish of the pole, where
+/// x² + y² could underflow).
+fn meridian<T: Real>(p: &Vec3<T>) -> (T, (T, T)) {
+    let az = p.y.atan2(&p.x);
+    let r2 = p.x.square() + &p.y.square();
+    let cs = if r2 > T::unit_roundoff().powi(8) {
+        let r = r2.sqrt();
+        (p.x.clone() / &r, p.y.clone() / &r)
+    } else {
+        let (s, c) = az.sin_cos();
+        (c, s)
+    };
+    (az, cs)
+}
+
 /// `true` if `p` is the pole (no azimuth).
 fn at_pole<T: Real>(p: &Vec3<T>) -> bool {
     p.x == T::zero() && p.y == T::zero()
@@ -302,84 +354,96 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     let u = T::unit_roundoff();
     let two_pi = T::pi() * &T::from_i64(2);
     // Arcs along meridians (n_z = 0, including those through the pole)
-    // sweep no azimuth and bound no projected area.
-    let usable: Vec<&Arc<T>> = arcs
+    // sweep no azimuth and bound no projected area. The others, with the
+    // azimuths of their ends (once per point: an arc that starts where the
+    // previous one ends, cyclically, reuses its azimuth) and their ranges,
+    // in one vector (a single allocation; the meridian indices of the ends
+    // are filled in below).
+    let mut usable: Vec<UsableArc<'_, T>> = Vec::with_capacity(arcs.len());
+    for a in arcs
         .iter()
         .filter(|a| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
-        .collect();
-    // The azimuths of the usable arcs' ends, once per point: an arc that
-    // starts where the previous one ends (cyclically) reuses its azimuth.
-    let mut azimuths: Vec<(T, T)> = usable
-        .iter()
-        .map(|a| (T::zero(), a.b.y.atan2(&a.b.x)))
-        .collect();
-    for i in 0..usable.len() {
-        let prev = (i + usable.len() - 1) % usable.len();
-        azimuths[i].0 = if usable[prev].b == usable[i].a {
-            azimuths[prev].1.clone()
+    {
+        let (az_b, cs_b) = meridian(&a.b);
+        usable.push(UsableArc {
+            arc: a,
+            az: (T::zero(), az_b),
+            cs: [(T::zero(), T::zero()), cs_b],
+            ends: (0, 0),
+            whole: arc_range(a),
+        });
+    }
+    let nu = usable.len();
+    for i in 0..nu {
+        let prev = (i + nu - 1) % nu;
+        let (az_a, cs_a) = if usable[prev].arc.b == usable[i].arc.a {
+            (usable[prev].az.1.clone(), usable[prev].cs[1].clone())
         } else {
-            usable[i].a.y.atan2(&usable[i].a.x)
+            meridian(&usable[i].arc.a)
         };
+        usable[i].az.0 = az_a;
+        usable[i].cs[0] = cs_a;
     }
     // Vertex meridians. Azimuths within rounding of each other (an edge
     // lying along a meridian, computed with n_z a few units of roundoff off
     // zero) are one meridian: no lune thinner than `merge` is formed, so the
-    // partition does not depend on the rounding of such edges.
-    let mut raw: Vec<T> = Vec::with_capacity(2 * usable.len());
-    for (za, zb) in &azimuths {
-        raw.push(za.clone());
-        raw.push(zb.clone());
+    // partition does not depend on the rounding of such edges. Each merged
+    // meridian is the least azimuth of its cluster.
+    // (azimuth, cos, sin) of each meridian.
+    let mut bounds: Vec<(T, T, T)> = Vec::with_capacity(2 * nu);
+    for a in &usable {
+        for (az, (c, s)) in [(&a.az.0, &a.cs[0]), (&a.az.1, &a.cs[1])] {
+            bounds.push((az.clone(), c.clone(), s.clone()));
+        }
     }
-    raw.sort_by(|x, y| x.partial_cmp(y).unwrap_or(core::cmp::Ordering::Equal));
-    raw.dedup();
+    bounds.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(core::cmp::Ordering::Equal));
     let merge = T::from_i64(16) * &u * &T::pi();
-    let mut bounds: Vec<T> = Vec::with_capacity(raw.len());
-    let mut merged: Vec<usize> = Vec::with_capacity(raw.len());
-    for x in &raw {
-        match bounds.last() {
-            Some(b) if x.clone() - b <= merge => {}
-            _ => bounds.push(x.clone()),
+    let mut last: Option<T> = None;
+    bounds.retain(|(x, _, _)| {
+        let keep = last.as_ref().is_none_or(|b| x.clone() - b > merge);
+        if keep {
+            last = Some(x.clone());
         }
-        merged.push(bounds.len() - 1);
-    }
+        keep
+    });
     let mut m = bounds.len();
-    if m >= 2 && bounds[0].clone() + &two_pi - &bounds[m - 1] <= merge {
-        // Across the branch cut of atan2: the last meridian is the first.
-        for i in merged.iter_mut() {
-            if *i == m - 1 {
-                *i = 0;
-            }
-        }
-        bounds.pop();
+    // Across the branch cut of atan2 the last meridian may be the first:
+    // azimuths from `wrap` on then belong to meridian 0.
+    let mut wrap: Option<T> = None;
+    if m >= 2 && bounds[0].0.clone() + &two_pi - &bounds[m - 1].0 <= merge {
+        wrap = bounds.pop().map(|b| b.0);
         m -= 1;
     }
     if m < 2 {
         return Err(degenerate("zero projected solid angle"));
     }
+    // The meridian of an end's azimuth `x` (one of the sorted azimuths):
+    // the last merged meridian at or before it.
     let index = |x: &T| -> usize {
-        let i = raw.partition_point(|b| b < x).min(raw.len() - 1);
-        merged[i]
+        if wrap.as_ref().is_some_and(|w| x >= w) {
+            return 0;
+        }
+        bounds.partition_point(|b| b.0 <= *x).max(1) - 1
     };
+    for a in usable.iter_mut() {
+        a.ends = (index(&a.az.0), index(&a.az.1));
+    }
     let width = |k: usize| -> T {
         if k + 1 < m {
-            bounds[k + 1].clone() - &bounds[k]
+            bounds[k + 1].0.clone() - &bounds[k].0
         } else {
-            bounds[0].clone() + &two_pi - &bounds[m - 1]
+            bounds[0].0.clone() + &two_pi - &bounds[m - 1].0
         }
     };
     let slack = T::exp2i(-((T::precision() / 2) as i32));
     // (lune, arc) for every arc crossing a lune, grouped by lune below.
-    let mut members: Vec<(usize, usize)> = Vec::with_capacity(2 * usable.len());
-    // The meridian index of each usable arc's ends.
-    let ends: Vec<(usize, usize)> = azimuths
-        .iter()
-        .map(|(za, zb)| (index(za), index(zb)))
-        .collect();
-    for (ai, a) in usable.iter().enumerate() {
-        let (ia, ib) = ends[ai];
+    let mut members: Vec<(usize, usize)> = Vec::with_capacity(2 * nu);
+    for (ai, ua) in usable.iter().enumerate() {
+        let (ia, ib) = ua.ends;
         if ia == ib {
             continue;
         }
+        let a = ua.arc;
         let (first, last) = if a.n.z > zero { (ia, ib) } else { (ib, ia) };
         let mut sweep = T::zero();
         let mut k = first;
@@ -406,58 +470,55 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     let half = T::from_ratio(1, 2);
     let end_of = |k: usize| -> T {
         if k + 1 < m {
-            bounds[k + 1].clone()
+            bounds[k + 1].0.clone()
         } else {
-            bounds[0].clone() + &two_pi
+            bounds[0].0.clone() + &two_pi
         }
     };
     // Do arcs `i` and `j` share an endpoint on meridian number `k`?
     let share_at = |i: usize, j: usize, k: usize| -> bool {
-        let (p, q) = (usable[i], usable[j]);
-        [(&p.a, ends[i].0), (&p.b, ends[i].1)]
+        let (p, q, ends) = (usable[i].arc, usable[j].arc, usable[i].ends);
+        [(&p.a, ends.0), (&p.b, ends.1)]
             .iter()
             .any(|(e, ke)| (**e == q.a || **e == q.b) && *ke == k)
     };
-    let whole: Vec<EdgeRange<T>> = usable.iter().map(|a| arc_range(a)).collect();
     // The arc's range in lune k: its own ends where it ends on the lune's
     // meridians.
     let range_in = |ai: usize, e: &LuneEdge<T>, k: usize| -> EdgeRange<T> {
-        let arc = usable[ai];
+        let UsableArc {
+            arc, ends, whole, ..
+        } = &usable[ai];
         let at = |meridian: usize| {
-            let p = if ends[ai].0 == meridian {
+            let p = if ends.0 == meridian {
                 &arc.a
-            } else if ends[ai].1 == meridian {
+            } else if ends.1 == meridian {
                 &arc.b
             } else {
                 return None;
             };
             Some(EdgeRange::point([&p.x, &p.y, &p.z]))
         };
-        e.range([at(k), at((k + 1) % m)], &whole[ai])
+        e.range([at(k), at((k + 1) % m)], whole)
     };
     // Stable: each lune's arcs stay in boundary order.
     members.sort_by_key(|&(k, _)| k);
-    // (sin, cos) of each meridian, computed once and shared by the lunes on
-    // either side (the last lune ends one turn after the first meridian).
-    let mut start_sc = bounds[0].sin_cos();
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(members.len());
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(members.len());
     let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(members.len());
     let mut magnitude = T::zero();
-    let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::new();
+    let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::with_capacity(nu);
     let mut next_member = 0;
-    for (k, start) in bounds.iter().enumerate() {
-        let start = start.clone();
+    for (k, (start, cos_a, sin_a)) in bounds.iter().enumerate() {
+        let (start, cos_a, sin_a) = (start.clone(), cos_a.clone(), sin_a.clone());
         let end_az = end_of(k);
         let w = width(k);
-        let (sin_a, cos_a) = start_sc;
-        let (sin_b, cos_b) = end_az.sin_cos();
-        start_sc = (sin_b.clone(), cos_b.clone());
+        // The last lune ends one turn after the first meridian.
+        let (_, cos_b, sin_b) = bounds[(k + 1) % m].clone();
         lune_edges.clear();
         while next_member < members.len() && members[next_member].0 == k {
             let ai = members[next_member].1;
-            let n = &usable[ai].n;
+            let n = &usable[ai].arc.n;
             lune_edges.push((
                 ai,
                 LuneEdge::new([&n.x, &n.y, &n.z], (&cos_a, &sin_a), (&cos_b, &sin_b)),
@@ -487,11 +548,54 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             let sm = ((T::one() - &c1) * &half).sqrt();
             (sm.clone(), s1.clone() / &(sm * &T::from_i64(2)))
         };
-        lune_edges.sort_by(|p, q| {
-            r2_at(&p.1, Side::Start, &cm, &sm)
-                .partial_cmp(&r2_at(&q.1, Side::Start, &cm, &sm))
-                .unwrap_or(core::cmp::Ordering::Equal)
-        });
+        // Edge p lies nearer the pole than q at the middle meridian when
+        // cot θ_p > cot θ_q, cot θ = −g/n_z: the sign of
+        // D = n_z,p g_q − n_z,q g_p = A cos x + B sin x times that of
+        // n_z,p n_z,q. Where p and q meet on a bounding meridian, A is 0
+        // there (exactly: the sign is B's, however thin the lune), and
+        // cot θ keeps its relative accuracy near the horizon, where r²
+        // rounds to 1 (a comparison of r² would tie).
+        // D at the middle meridian, and (if `bound`) a bound on its
+        // rounding error (else 0).
+        let separation =
+            |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>), bound: bool| -> (T, T) {
+                let (si, a_zero) = if share_at(p.0, q.0, k) {
+                    (0, true)
+                } else if share_at(p.0, q.0, (k + 1) % m) {
+                    (1, true)
+                } else {
+                    (0, false)
+                };
+                let (ps, qs) = (&p.1.side[si], &q.1.side[si]);
+                let (b1, b2) = (p.1.nz.clone() * &qs.k0, q.1.nz.clone() * &ps.k0);
+                let mut err = T::zero();
+                if bound {
+                    err = (b1.abs() + &b2.abs()) * &sm;
+                }
+                let mut d = (b1 - &b2) * &sm;
+                if !a_zero {
+                    let (a1, a2) = (p.1.nz.clone() * &qs.g0, q.1.nz.clone() * &ps.g0);
+                    if bound {
+                        err += &((a1.abs() + &a2.abs()) * &cm.abs());
+                    }
+                    d += &((a1 - &a2) * &cm);
+                }
+                (d, err * &T::from_i64(8) * &u)
+            };
+        let nearer_pole = |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>)| -> bool {
+            let d = separation(p, q, false).0;
+            let flip = (p.1.nz < zero) != (q.1.nz < zero);
+            if flip { d < zero } else { d > zero }
+        };
+        // Insertion sort (stable, a handful of edges per lune, no
+        // allocation, and no total order demanded of a rounded comparison).
+        for i in 1..lune_edges.len() {
+            let mut j = i;
+            while j > 0 && nearer_pole(&lune_edges[j], &lune_edges[j - 1]) {
+                lune_edges.swap(j, j - 1);
+                j -= 1;
+            }
+        }
         for side in [Side::Start, Side::End] {
             for pair in lune_edges.windows(2) {
                 let (r0, r1) = (
@@ -511,6 +615,17 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                     .windows(2)
                     .any(|p| is_outer(&p[0]) == is_outer(&p[1])))
         {
+            // Two edges whose order on the meridian is within rounding
+            // (a polygon narrower than the rounding of its vertices, whose
+            // interior is not resolved): no projected area, not a crossing.
+            if lune_edges.windows(2).any(|p| {
+                let (d, err) = separation(&p[0], &p[1], true);
+                d.abs() <= err
+            }) {
+                return Err(degenerate(
+                    "zero projected solid angle (two edges coincide within rounding)",
+                ));
+            }
             return Err(degenerate(
                 "self-intersecting polygon (inconsistent edge orientation)",
             ));
@@ -584,7 +699,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     }
     // Projected area by lune; lunes of zero area are never sampled.
     let mut measure = T::zero();
-    let mut active = Vec::new();
+    let mut active = Vec::with_capacity(m);
     for (k, lune) in lunes.iter_mut().enumerate() {
         lune.cum_start = measure.clone();
         if lune.area > zero {

@@ -35,8 +35,6 @@ pub(super) struct EdgeSide<T> {
     pub g0: T,
     /// dg/dx there.
     pub k0: T,
-    /// r at the side's meridian.
-    pub r0: T,
 }
 
 /// An edge crossing a lune.
@@ -62,11 +60,9 @@ impl<T: Real> LuneEdge<T> {
         let side = |(cos, sin): (&T, &T), sign: bool| {
             let g0 = nx.clone() * cos + &(ny.clone() * sin);
             let k = ny.clone() * cos - &(nx.clone() * sin);
-            let r0 = nz.abs() / &(nz2.clone() + &g0.square()).sqrt();
             EdgeSide {
                 g0,
                 k0: if sign { k } else { -k },
-                r0,
             }
         };
         LuneEdge {
@@ -407,7 +403,10 @@ impl<T: Real> Lune<T> {
             let r_i = (e.nz2.clone() / &den_i).sqrt();
             let r_sum = r_o + &r_i;
             if r_sum > T::zero() {
-                tri += &(o.side[si].r0.clone() * &(len / &r_sum));
+                // r at the side's meridian (the shared vertex).
+                let g0 = &o.side[si].g0;
+                let r0 = o.abs_nz.clone() / &(o.nz2.clone() + &g0.square()).sqrt();
+                tri += &(r0 * &(len / &r_sum));
             }
         }
         sum + &(tri * s)

@@ -4,6 +4,7 @@
 //! marginal inversion: `docs/projected-polygon.md`.
 
 mod build;
+mod geometry;
 mod lune;
 mod narrow;
 #[cfg(test)]
@@ -12,6 +13,7 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
+use self::geometry::{Frame, Source, arc_distance};
 use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
@@ -50,53 +52,6 @@ pub enum MarginalInversion {
     /// exactly area-preserving at 256 bits. The default.
     #[default]
     Newton,
-}
-
-/// Where the polygon came from, kept to rebuild it at another precision.
-#[derive(Clone, Debug)]
-enum Source<T> {
-    Directions(Vec<Vec3<T>>),
-    Points {
-        points: Vec<Vec3<T>>,
-        observer: Vec3<T>,
-        normal: Vec3<T>,
-    },
-}
-
-/// A right-handed orthonormal frame `(e1, e2, n)` with the receiver's
-/// normal `n` as local `+z`.
-#[derive(Clone, Debug)]
-struct Frame<T> {
-    e1: Vec3<T>,
-    e2: Vec3<T>,
-    n: Vec3<T>,
-}
-
-impl<T: Real> Frame<T> {
-    /// Completes the unit normal `n` to a frame (Duff et al. 2017,
-    /// "Building an orthonormal basis, revisited").
-    fn from_normal(n: Vec3<T>) -> Self {
-        let one = T::one();
-        let sign = one.copysign(&n.z);
-        let a = -(one.clone() / &(sign.clone() + &n.z));
-        let b = n.x.clone() * &n.y * &a;
-        let e1 = Vec3::new(
-            one + &(sign.clone() * &n.x.square() * &a),
-            sign.clone() * &b,
-            -(sign.clone() * &n.x),
-        );
-        let e2 = Vec3::new(b, sign + &(n.y.square() * &a), -n.y.clone());
-        Frame { e1, e2, n }
-    }
-    fn to_local(&self, p: &Vec3<T>) -> Vec3<T> {
-        Vec3::new(p.dot(&self.e1), p.dot(&self.e2), p.dot(&self.n))
-    }
-    fn to_world(&self, l: &Vec3<T>) -> Vec3<T> {
-        self.e1
-            .scale(&l.x)
-            .add(&self.e2.scale(&l.y))
-            .add(&self.n.scale(&l.z))
-    }
 }
 
 /// Cosine-weighted directions in a spherical polygon (Arvo 2001, §1.4): the
@@ -372,11 +327,12 @@ impl<T: Real> ProjectedPolygon<T> {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
-            let built_w = clip(&vertices_w).and_then(|arcs| partition(arcs, solid_angle_w))?;
+            let built_w =
+                clip(&vertices_w, Vec3::clone).and_then(|arcs| partition(arcs, solid_angle_w))?;
             narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
         } else {
-            let vertices: Vec<Vec3<T>> = vertices_w.iter().map(narrow3::<T>).collect();
-            clip(&vertices).and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
+            clip(&vertices_w, narrow3::<T>)
+                .and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
         };
         let Built {
             arcs,
@@ -637,21 +593,6 @@ impl<T: Real> ProjectedPolygon<T> {
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.square();
         lune.contains(&self.edges, &self.pairs, side, &c, &s, &r2, &z2)
-    }
-}
-
-/// Euclidean distance from the unit vector `d` to the arc.
-fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {
-    let ends = d.sub(&arc.a).norm().min(&d.sub(&arc.b).norm());
-    let w = d.sub(&arc.n.scale(&d.dot(&arc.n)));
-    match w.normalized() {
-        Some(q)
-            if arc.a.cross(&q).dot(&arc.n) >= T::zero()
-                && q.cross(&arc.b).dot(&arc.n) >= T::zero() =>
-        {
-            d.sub(&q).norm().min(&ends)
-        }
-        _ => ends,
     }
 }
 

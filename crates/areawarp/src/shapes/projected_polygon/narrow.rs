@@ -29,12 +29,17 @@ pub(super) fn unrepresentable() -> WarpError {
 /// come from the wide type, so nothing else of `T`'s rounding can undo it;
 /// this is one cross product per edge, not a second validation.)
 pub(super) fn representable<T: Real>(vertices_w: &[Vec3<T::Wide>]) -> bool {
-    let rounded: Vec<Vec3<T::Wide>> = vertices_w
-        .iter()
-        .map(|v| widen3(&narrow3::<T>(v)))
-        .collect();
-    let k = rounded.len();
-    (0..k).all(|i| rounded[i].cross(&rounded[(i + 1) % k]).max_abs() > <T::Wide as Real>::zero())
+    let rounded = |v: &Vec3<T::Wide>| widen3(&narrow3::<T>(v));
+    let Some(last) = vertices_w.last() else {
+        return true;
+    };
+    let mut prev = rounded(last);
+    vertices_w.iter().all(|v| {
+        let r = rounded(v);
+        let distinct = prev.cross(&r).max_abs() > <T::Wide as Real>::zero();
+        prev = r;
+        distinct
+    })
 }
 
 fn n<T: Real>(x: &T::Wide) -> T {
@@ -77,7 +82,6 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             side: [0, 1].map(|i| EdgeSide {
                 g0: n::<T>(&e.side[i].g0),
                 k0: n::<T>(&e.side[i].k0),
-                r0: n::<T>(&e.side[i].r0),
             }),
         })
         .collect();
