@@ -187,9 +187,16 @@ fn quick_report_writes_tables_csv_and_valid_figures() {
         ),
     ] {
         let at = pos(&format!("]({file})"));
-        assert!(urena.0 < at && at < urena.1, "{file} not in the Ureña 2000 section");
+        assert!(
+            urena.0 < at && at < urena.1,
+            "{file} not in the Ureña 2000 section"
+        );
         assert!(pos(table) < at, "{file} before its table");
-        assert_eq!(index.matches(&format!("]({file})")).count(), 1, "{file} shown once");
+        assert_eq!(
+            index.matches(&format!("]({file})")).count(),
+            1,
+            "{file} shown once"
+        );
     }
     // Every numbered figure's alt text describes it and differs from its
     // caption's title.

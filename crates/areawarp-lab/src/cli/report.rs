@@ -491,7 +491,7 @@ fn run(out: &Path, size: Size) -> Result<bool, Box<dyn std::error::Error>> {
          (per-receiver metric). A claim is *reproduced* only if the paper's figure lies inside our 95% interval or the paper's \
          own stated tolerance; claims without a number, when our whole interval lies beyond the threshold the words imply. \
          Verdicts under the image metric are beside them; rows C… are in the claims table of the Ureña–Fajardo–King section. \
-         {questions} row(s) marked *our question* ask what no paper claims (answered yes / no by the same intervals) and are not counted.\n",
+         Rows marked *our question* ({questions}) ask what no paper claims, answered yes / mixed / no by the same intervals, and are not counted.\n",
         rows.len() - questions,
         count(V::Reproduced),
         count(V::Qualitative),

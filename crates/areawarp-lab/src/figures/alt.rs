@@ -3,23 +3,35 @@
 
 use super::{Axis, HeatMap, ImageGrid, Plot, Scale};
 
-/// `label (log scale)` or the label alone.
+/// The label without its parenthetical remarks (alt texts stay short),
+/// and `, log scale` for a log axis.
 fn axis(a: &Axis) -> String {
-    let label = if a.label.is_empty() {
-        "unlabelled axis"
+    let mut label = String::new();
+    let mut depth = 0usize;
+    for c in a.label.chars() {
+        match c {
+            '(' => depth += 1,
+            ')' => depth = depth.saturating_sub(1),
+            _ if depth == 0 => label.push(c),
+            _ => {}
+        }
+    }
+    let label = label.split_whitespace().collect::<Vec<_>>().join(" ");
+    let label = if label.is_empty() {
+        "an unlabelled axis".to_string()
     } else {
-        a.label.as_str()
+        label
     };
     match a.scale {
         Scale::Log10 => format!("{label} (log scale)"),
-        Scale::Linear => label.to_string(),
+        Scale::Linear => label,
     }
 }
 
 /// Up to `k` names, then how many more.
 fn names<'a>(it: impl Iterator<Item = &'a str>, k: usize) -> String {
     let all: Vec<&str> = it.filter(|s| !s.is_empty()).collect();
-    let mut s = all.iter().take(k).copied().collect::<Vec<_>>().join(", ");
+    let mut s = all.iter().take(k).copied().collect::<Vec<_>>().join("; ");
     if all.len() > k {
         s.push_str(&format!(" and {} more", all.len() - k));
     }
@@ -34,18 +46,18 @@ impl Plot {
         let listed = self.series.iter().filter(|s| !s.label.is_empty()).count();
         let bands = self.series.iter().any(|s| !s.band.is_empty());
         let mut s = format!(
-            "{kind} of {} (vertical) against {} (horizontal)",
+            "{kind} plotting {} (up) against {} (across)",
             axis(&self.y),
             axis(&self.x)
         );
         if listed > 0 {
             s.push_str(&format!(
-                "; {listed} series: {}",
-                names(self.series.iter().map(|s| s.label.as_str()), 6)
+                "; {listed} series ({})",
+                names(self.series.iter().map(|s| s.label.as_str()), 4)
             ));
         }
         if bands {
-            s.push_str("; shaded bands are confidence intervals");
+            s.push_str(", with shaded confidence bands");
         }
         s
     }
@@ -60,7 +72,7 @@ impl HeatMap {
             self.value_label.as_str()
         };
         format!(
-            "Colour map of {value}{} over {} (horizontal) and {} (vertical), {} × {} cells, with a colour bar",
+            "Colour map of {value}{} over {} (across) and {} (up), {} × {} cells, with a colour bar",
             if self.value_scale == Scale::Log10 {
                 " (log colour scale)"
             } else {
@@ -85,13 +97,37 @@ impl ImageGrid {
             .map(|p| p.title.as_str())
             .collect();
         format!(
-            "Grid of {} false-colour images, {} per row ({}), each over {} (horizontal) and {} (vertical); colour bars: {}",
+            "Grid of {} false-colour images, {} per row ({}), each over {} (across) and {} (up); colour bars: {}",
             panels.len(),
             self.columns,
-            names(panels.iter().copied(), 8),
+            names(panels.iter().copied(), 4),
             axis(&self.x),
             axis(&self.y),
             names(self.scales.iter().map(|s| s.label.as_str()), 4)
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figures::Series;
+
+    #[test]
+    fn alt_texts_name_the_axes_and_series_without_remarks() {
+        let plot = Plot::new(
+            "Error of everything",
+            Axis::log("spp (MIS: 2n rays)"),
+            Axis::log("relative RMS (band: 95%)"),
+        )
+        .series(Series::new("a", vec![(1.0, 1.0)]).with_band(vec![(1.0, 0.5, 2.0)]))
+        .series(Series::new("b", vec![(1.0, 1.0)]));
+        assert_eq!(
+            plot.alt_text("Line chart"),
+            "Line chart plotting relative RMS (log scale) (up) against spp (log scale) (across); 2 series (a; b), with shaded confidence bands"
+        );
+        let bare = Plot::new("t", Axis::linear(""), Axis::linear("y"));
+        assert!(bare.alt_text("Scatter plot").split_whitespace().count() >= 8);
+        assert_eq!(names(["a", "b", "c"].into_iter(), 2), "a; b and 1 more");
     }
 }

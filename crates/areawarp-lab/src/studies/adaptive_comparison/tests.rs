@@ -392,7 +392,11 @@ fn equal_time_table_figure_and_cost_claims() {
             let cell = q.equal_time_cell(m, l).unwrap();
             assert!(cell.micros > 0.0 && cell.time_ratio > 0.0);
             let (e, se) = cell.efficiency;
-            assert!(e > 0.0 && e.is_finite() && se >= 0.0, "{}: {e} ± {se}", c.method);
+            assert!(
+                e > 0.0 && e.is_finite() && se >= 0.0,
+                "{}: {e} ± {se}",
+                c.method
+            );
             if m == s {
                 assert_eq!(cell.efficiency, (1.0, 0.0));
             }

@@ -254,7 +254,10 @@ pub fn time_estimates(
                         light: if uses_points[i] { &light } else { &partner },
                         partner: &partner,
                         point_set: PointSet::Jittered,
-                        seed: areawarp::estimate::job_seed(seed, (round * spp.len() + l) as u64 * 1_000_003 + j as u64),
+                        seed: areawarp::estimate::job_seed(
+                            seed,
+                            (round * spp.len() + l) as u64 * 1_000_003 + j as u64,
+                        ),
                     };
                     match estimators[i].prepare(black_box(scene), black_box(r)) {
                         Ok(mut p) => {

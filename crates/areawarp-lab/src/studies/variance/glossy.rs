@@ -335,10 +335,10 @@ impl GlossyStudy {
     /// BRDF sample by MIS lower the noise on the glossy receiver?" on the
     /// error measure `metric`, from [`GlossyStudy::mis_ratios`]: `yes`
     /// ([`Verdict::Reproduced`]) when every sampler's 95% interval of
-    /// RMS(+MIS)/RMS(alone) lies below 1, `mixed` when some lie below and
-    /// some above, direction only ([`Verdict::Qualitative`]) when every
-    /// point is below 1 but not every interval, `no` otherwise; with the
-    /// ratios as text.
+    /// RMS(+MIS)/RMS(alone) lies below 1, `mixed` when some but not all
+    /// do (MIS lowers the noise of some samplers only), direction only
+    /// ([`Verdict::Qualitative`]) when every point is below 1 but no
+    /// interval, `no` otherwise; with the ratios as text.
     pub fn mis_answer(&self, metric: Metric) -> (Verdict, String) {
         let study = GlossyStudy {
             measurement: self.measurement.with_metric(metric),
@@ -346,13 +346,11 @@ impl GlossyStudy {
         };
         let ratios = study.mis_ratios();
         let below = |r: f64, se: f64| crate::verdict::interval(r, se).1 < 1.0;
-        let above = |r: f64, se: f64| crate::verdict::interval(r, se).0 > 1.0;
         let verdict = if ratios.is_empty() {
             Verdict::NotMeasured
         } else if ratios.iter().all(|x| below(x.1, x.2)) {
             Verdict::Reproduced
-        } else if ratios.iter().any(|x| below(x.1, x.2)) && ratios.iter().any(|x| above(x.1, x.2))
-        {
+        } else if ratios.iter().any(|x| below(x.1, x.2)) {
             Verdict::Mixed
         } else if ratios.iter().all(|x| x.1 < 1.0) {
             Verdict::Qualitative
