@@ -379,6 +379,10 @@ mod tests {
                 "Line chart of error against spp".to_string(),
             ),
         );
+        t.insert(
+            "c.svg".to_string(),
+            ("C's title".to_string(), "C's own alt text".to_string()),
+        );
         let (md, n) = number_figures(
             "text\n![a.svg](a.svg)\n| ![x](b.svg) | ![](a.svg) |\n![one two three four five six seven eight](c.svg)\n",
             &t,
@@ -390,8 +394,11 @@ mod tests {
         assert!(md.contains(
             "| ![Figure 2: image file b.svg](b.svg) | ![Figure 1: Line chart of error against spp](a.svg) |"
         ));
-        // A descriptive alt text written in the Markdown is kept.
-        assert!(md.contains("![Figure 3: one two three four five six seven eight](c.svg)"));
+        // A descriptive alt text written in the Markdown is kept, the
+        // title captions it.
+        assert!(md.contains(
+            "![Figure 3: one two three four five six seven eight](c.svg)\n\n*Figure 3.* C's title (`c.svg`)"
+        ));
     }
 
     #[test]
