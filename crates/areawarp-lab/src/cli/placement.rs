@@ -92,6 +92,7 @@ mod tests {
             width: 1,
             height: 1,
             title: title.into(),
+            alt: String::new(),
         }
     }
 

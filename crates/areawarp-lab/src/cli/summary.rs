@@ -23,6 +23,26 @@ pub struct SummaryRow {
     pub detail: String,
 }
 
+impl SummaryRow {
+    /// Whether the row is our own question (its source starts with
+    /// [`crate::verdict::OUR_QUESTION`]): answered yes / no, not counted
+    /// among the papers' claims.
+    pub fn is_our_question(&self) -> bool {
+        self.source.starts_with(crate::verdict::OUR_QUESTION)
+    }
+}
+
+/// The answer of an our-question row (`yes`, `yes, smaller`, `mixed`, `no`).
+fn answer(v: Verdict) -> &'static str {
+    match v {
+        Verdict::Reproduced => "yes",
+        Verdict::Qualitative => "yes, smaller",
+        Verdict::Mixed => "mixed",
+        Verdict::NotReproduced => "no",
+        Verdict::NotMeasured => "not measured",
+    }
+}
+
 /// The short name of the paper a source cites.
 pub fn paper_of(source: &str) -> &'static str {
     if source.contains("Fajardo") {
@@ -231,14 +251,21 @@ pub fn verdict_table(rows: &[SummaryRow]) -> String {
         "| paper | where | claim | verdict (per-receiver) | verdict (image) | numbers |\n|---|---|---|---|---|---|\n",
     );
     for r in rows {
+        let name = |v: Verdict| {
+            if r.is_our_question() {
+                answer(v)
+            } else {
+                v.name()
+            }
+        };
         let _ = writeln!(
             s,
             "| {} | {} | {} | **{}** | {} | {} |",
             r.paper,
             r.source,
             r.claim,
-            r.verdict.name(),
-            r.verdict_image.map_or("–", |v| v.name()),
+            name(r.verdict),
+            r.verdict_image.map_or("–", name),
             r.detail
         );
     }
@@ -270,11 +297,15 @@ pub fn chi2_row(
     }
 }
 
-/// Numbers the figures of `md` in order of appearance: every image gets the
-/// alt text "Figure k: title" (the title its writer drew, or the file name
-/// for figures without one), and an image alone on its line a caption
-/// line below it. Returns the new Markdown and the number of figures.
-pub fn number_figures(md: &str, titles: &HashMap<String, String>) -> (String, usize) {
+/// Numbers the figures of `md` in order of appearance. `figures` maps a
+/// file to its title (the caption) and its alt text (what it plots, on
+/// which axes). Every image gets the alt text "Figure k: alt" — the alt
+/// text written in the Markdown if it is descriptive (eight words or more,
+/// not the file name, not the title), else the figure's own, else the file
+/// name — and an image alone on its line a caption line below it,
+/// "*Figure k.* title (`file`)". Returns the new Markdown and the number of
+/// figures.
+pub fn number_figures(md: &str, figures: &HashMap<String, (String, String)>) -> (String, usize) {
     let mut out = String::with_capacity(md.len() + 4096);
     let mut k = 0;
     let mut numbers: HashMap<String, usize> = HashMap::new();
@@ -296,10 +327,10 @@ pub fn number_figures(md: &str, titles: &HashMap<String, String>) -> (String, us
                 k += 1;
                 k
             });
-            let title = titles
-                .get(file)
+            let known = figures.get(file);
+            let title = known
+                .map(|f| f.0.clone())
                 .filter(|t| !t.is_empty())
-                .cloned()
                 .unwrap_or_else(|| {
                     if alt.is_empty() || alt == file {
                         file.to_string()
@@ -308,7 +339,16 @@ pub fn number_figures(md: &str, titles: &HashMap<String, String>) -> (String, us
                     }
                 });
             let title = title.replace(['[', ']'], "");
-            let _ = write!(new_line, "![Figure {n}: {title}]({file})");
+            let written = (alt.split_whitespace().count() >= 8 && alt != file && alt != title)
+                .then(|| alt.to_string());
+            let own = known
+                .map(|f| f.1.clone())
+                .filter(|a| !a.is_empty() && *a != title);
+            let alt = written
+                .or(own)
+                .unwrap_or_else(|| format!("image file {file}"))
+                .replace(['[', ']'], "");
+            let _ = write!(new_line, "![Figure {n}: {alt}]({file})");
             captions.push(format!("*Figure {n}.* {title} (`{file}`)"));
             rest = &rest[start + mid + end + 1..];
         }
@@ -330,15 +370,35 @@ mod tests {
     use super::*;
 
     #[test]
-    fn figures_are_numbered_with_titles() {
+    fn figures_are_numbered_with_alt_texts_and_titled_captions() {
         let mut t = HashMap::new();
-        t.insert("a.svg".to_string(), "Error against spp".to_string());
-        let (md, n) = number_figures("text\n![a.svg](a.svg)\n| ![x](b.svg) | ![](a.svg) |\n", &t);
-        assert_eq!(n, 2);
-        assert!(
-            md.contains("![Figure 1: Error against spp](a.svg)\n\n*Figure 1.* Error against spp")
+        t.insert(
+            "a.svg".to_string(),
+            (
+                "Error against spp".to_string(),
+                "Line chart of error against spp".to_string(),
+            ),
         );
-        assert!(md.contains("| ![Figure 2: x](b.svg) | ![Figure 1: Error against spp](a.svg) |"));
+        t.insert(
+            "c.svg".to_string(),
+            ("C's title".to_string(), "C's own alt text".to_string()),
+        );
+        let (md, n) = number_figures(
+            "text\n![a.svg](a.svg)\n| ![x](b.svg) | ![](a.svg) |\n![one two three four five six seven eight](c.svg)\n",
+            &t,
+        );
+        assert_eq!(n, 3);
+        assert!(md.contains(
+            "![Figure 1: Line chart of error against spp](a.svg)\n\n*Figure 1.* Error against spp (`a.svg`)"
+        ));
+        assert!(md.contains(
+            "| ![Figure 2: image file b.svg](b.svg) | ![Figure 1: Line chart of error against spp](a.svg) |"
+        ));
+        // A descriptive alt text written in the Markdown is kept, the
+        // title captions it.
+        assert!(md.contains(
+            "![Figure 3: one two three four five six seven eight](c.svg)\n\n*Figure 3.* C's title (`c.svg`)"
+        ));
     }
 
     #[test]

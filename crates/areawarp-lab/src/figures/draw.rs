@@ -675,6 +675,7 @@ pub fn write_line_plot_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         marks,
         (plot.width, plot.height),
         &plot.title,
+        plot.alt_text("Line chart"),
     )
 }
 
@@ -687,7 +688,14 @@ pub fn write_line_plot_png(path: &Path, plot: &Plot) -> io::Result<Figure> {
     let (png, marks) = render_png(plot.width, plot.height, |root| {
         draw_plot(root, plot, Kind::Line)
     })?;
-    write_file(path, &png, marks, (plot.width, plot.height), &plot.title)
+    write_file(
+        path,
+        &png,
+        marks,
+        (plot.width, plot.height),
+        &plot.title,
+        plot.alt_text("Line chart"),
+    )
 }
 
 /// Writes `plot` as an SVG scatter plot: a marker per point inside the
@@ -709,6 +717,7 @@ pub fn write_scatter_svg(path: &Path, plot: &Plot) -> io::Result<Figure> {
         marks,
         (plot.width, plot.height),
         &plot.title,
+        plot.alt_text("Scatter plot"),
     )
 }
 
@@ -722,7 +731,14 @@ pub fn write_scatter_png(path: &Path, plot: &Plot) -> io::Result<Figure> {
     let (png, marks) = render_png(plot.width, plot.height, |root| {
         draw_plot(root, plot, Kind::Scatter)
     })?;
-    write_file(path, &png, marks, (plot.width, plot.height), &plot.title)
+    write_file(
+        path,
+        &png,
+        marks,
+        (plot.width, plot.height),
+        &plot.title,
+        plot.alt_text("Scatter plot"),
+    )
 }
 
 /// The size of a heat map's image for cells of `cell_px` pixels.
@@ -802,6 +818,7 @@ pub fn write_heat_map_svg(path: &Path, map: &HeatMap) -> io::Result<Figure> {
         map.cols * map.rows,
         (w, h),
         &map.title,
+        map.alt_text(),
     )
 }
 
@@ -819,5 +836,12 @@ pub fn write_heat_map_png(path: &Path, map: &HeatMap, cell_px: u32) -> io::Resul
         draw_heat_map(root, map, true)?;
         Ok(0)
     })?;
-    write_file(path, &png, map.cols * map.rows, (w, h), &map.title)
+    write_file(
+        path,
+        &png,
+        map.cols * map.rows,
+        (w, h),
+        &map.title,
+        map.alt_text(),
+    )
 }

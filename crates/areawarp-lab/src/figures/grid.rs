@@ -336,7 +336,7 @@ pub fn write_image_grid_png(path: &Path, grid: &ImageGrid) -> io::Result<Figure>
         }
         Ok(marks)
     })?;
-    write_file(path, &png, marks, (w, h), &grid.title)
+    write_file(path, &png, marks, (w, h), &grid.title, grid.alt_text())
 }
 
 #[cfg(test)]

@@ -32,6 +32,7 @@
 //! # Ok::<(), std::io::Error>(())
 //! ```
 
+mod alt;
 mod check;
 mod draw;
 mod grid;
@@ -422,8 +423,11 @@ pub struct Figure {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// The figure's title (the report's alt text and caption).
+    /// The figure's title (the report's caption).
     pub title: String,
+    /// A short description of what it plots and on which axes (the
+    /// report's alt text), distinct from the title.
+    pub alt: String,
 }
 
 fn invalid(msg: &str) -> io::Error {
@@ -436,6 +440,7 @@ fn write_file(
     marks: usize,
     (width, height): (u32, u32),
     title: &str,
+    alt: String,
 ) -> io::Result<Figure> {
     if let Some(dir) = path.parent()
         && !dir.as_os_str().is_empty()
@@ -450,5 +455,6 @@ fn write_file(
         width,
         height,
         title: title.to_string(),
+        alt,
     })
 }

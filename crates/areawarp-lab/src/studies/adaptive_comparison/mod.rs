@@ -22,6 +22,15 @@
 //! first image of Fig. 9), `K = 0.1` and `K = 0.001` (the paper's values in
 //! Fig. 7 and 9). All methods spend `n` samples (rays) per estimate.
 //!
+//! # Cost
+//! [`AdaptiveComparisonConfig::cost`] times one whole estimate of every
+//! method at every receiver and sample count (thread CPU time, cold: the
+//! per-receiver work — for adaptive sampling the partition it builds —
+//! included), for the efficiency `1/(RMS² · time)` relative to stratified
+//! solid-angle sampling and Ureña's claims about cost (§5, last
+//! paragraph); see [`AdaptiveComparison::equal_time_cell`] and
+//! [`AdaptiveComparison::break_even_ns`].
+//!
 //! # References
 //! The irradiance of the *unoccluded* patterned light is exact (Lambert's
 //! formula per pattern cell, [`lambert::irradiance`]). The occluded part
@@ -74,8 +83,10 @@ use rand::RngExt;
 use std::fmt::Write as _;
 use std::time::Instant;
 
+mod cost;
 mod estimators;
 mod output;
+pub use self::cost::{AdaptiveCost, COST_BASELINE, CostConfig, EqualTimeCell};
 pub use self::estimators::*;
 
 #[cfg(test)]
@@ -117,6 +128,9 @@ pub struct AdaptiveComparisonConfig {
     /// setup, `true` our extension (visibility discontinuities inside the
     /// light).
     pub occluders: bool,
+    /// The equal-time measurement (CPU time per estimate of every
+    /// method); `None` skips it.
+    pub cost: Option<CostConfig>,
 }
 
 impl Default for AdaptiveComparisonConfig {
@@ -143,6 +157,7 @@ impl Default for AdaptiveComparisonConfig {
             near_light: 0.5,
             fit_levels: 3,
             occluders: false,
+            cost: Some(CostConfig::default()),
         }
     }
 }
@@ -171,6 +186,7 @@ impl AdaptiveComparisonConfig {
                 replicas: 8,
                 side: 96,
             },
+            cost: Some(CostConfig::quick()),
             ..Self::default()
         }
     }
@@ -257,6 +273,8 @@ pub struct AdaptiveComparison {
     pub measurement: Measurement,
     /// The sizes of the adaptive partitions, per finite threshold.
     pub partitions: Vec<PartitionCounts>,
+    /// The CPU time per estimate of every method, if measured.
+    pub cost: Option<AdaptiveCost>,
     /// Wall-clock seconds of the references (not part of the results'
     /// determinism).
     pub reference_seconds: f64,
@@ -326,11 +344,20 @@ pub fn run_comparison(config: &AdaptiveComparisonConfig) -> Result<AdaptiveCompa
         near_light: config.near_light,
     };
     let measurement = measure(&spec, config.fit_levels)?;
+    // The jittered methods consume the engine's points; the others draw
+    // their own inside the estimate.
+    let mut uses_points = vec![true, true, false];
+    uses_points.resize(estimators.len(), false);
+    let cost = config
+        .cost
+        .as_ref()
+        .map(|c| cost::measure_cost(&setup, &estimators, &uses_points, &config.spp, c));
     Ok(AdaptiveComparison {
         config: config.clone(),
         references: refs,
         measurement,
         partitions,
+        cost,
         reference_seconds,
         elapsed_seconds: start.elapsed().as_secs_f64(),
     })

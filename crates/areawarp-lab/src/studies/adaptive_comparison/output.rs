@@ -271,6 +271,7 @@ impl AdaptiveComparison {
                 _ => out.push(not_measured(&source, &statement)),
             }
         }
+        out.extend(self.cost_claims());
         out
     }
 
@@ -352,6 +353,9 @@ impl AdaptiveComparison {
             }
         }
 
+        if let Some(cost) = self.cost_markdown() {
+            let _ = writeln!(out, "\n{cost}");
+        }
         let _ = writeln!(out, "\n#### Reading\n\n{}\n", self.reading());
 
         let _ = writeln!(
@@ -550,7 +554,7 @@ impl AdaptiveComparison {
 
     /// The source of a claim of the paper: as is without occluders, marked
     /// as our extension with them.
-    fn source(&self, paper: &str) -> String {
+    pub(crate) fn source(&self, paper: &str) -> String {
         if self.config.occluders {
             format!("{OUR_EXTENSION} (occluders kept): {paper}")
         } else {

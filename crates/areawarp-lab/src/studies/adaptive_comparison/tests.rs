@@ -32,6 +32,8 @@ fn tiny() -> AdaptiveComparisonConfig {
             replicas: 2,
             side: 16,
         },
+        // Timings differ from run to run: not part of the determinism.
+        cost: None,
         ..AdaptiveComparisonConfig::quick()
     }
 }
@@ -276,8 +278,8 @@ fn markdown_has_the_tables_and_the_claims() {
     // (the report's figures sit beside index.md).
     assert!(md.contains("![variance_adaptive.svg](variance_adaptive.svg)"));
     let claims = &section.claims;
-    // Fig. 9 ×2, every-spp ×2, Fig. 7, the bound ×2.
-    assert_eq!(claims.len(), 7);
+    // Fig. 9 ×2, every-spp ×2, Fig. 7, the bound ×2, cost ×2.
+    assert_eq!(claims.len(), 9);
     for c in claims {
         assert_ne!(c.verdict, Verdict::NotMeasured, "{}", c.statement);
         assert!(!c.measured.is_empty());
@@ -298,7 +300,7 @@ fn markdown_has_the_tables_and_the_claims() {
         claims[0].measured
     );
     // Ureña's bound holds for both thresholds.
-    for c in &claims[5..] {
+    for c in &claims[5..7] {
         assert_eq!(c.verdict, Verdict::Reproduced, "{}", c.measured);
     }
     // The partitions: K = 0.1 is coarse and counted everywhere,
@@ -369,6 +371,78 @@ fn the_section_attaches_and_writes_csv_and_figure() {
     assert!(check.marks >= fig.marks, "{check:?}");
     let svg = std::fs::read_to_string(&fig.path).unwrap();
     assert!(svg.contains("adaptive K=0.001") && svg.contains(STRATIFIED_SOLID_ANGLE));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn equal_time_table_figure_and_cost_claims() {
+    let q = quick();
+    let cost = q.cost.as_ref().expect("timed");
+    let ms = &q.measurement;
+    assert_eq!(cost.costs.len(), ms.methods.len());
+    assert_eq!(cost.receivers, 9);
+    let s = q.index(COST_BASELINE).unwrap();
+    for (m, c) in cost.costs.iter().enumerate() {
+        assert_eq!(c.method, ms.methods[m]);
+        assert_eq!(c.skipped, 0);
+        assert_eq!(c.per_estimate.len(), ms.spp.len());
+        for (l, t) in c.per_estimate.iter().enumerate() {
+            assert_eq!(t.runs, 3);
+            assert!(t.min > 0.0 && t.min <= t.median, "{}: {t:?}", c.method);
+            let cell = q.equal_time_cell(m, l).unwrap();
+            assert!(cell.micros > 0.0 && cell.time_ratio > 0.0);
+            let (e, se) = cell.efficiency;
+            assert!(
+                e > 0.0 && e.is_finite() && se >= 0.0,
+                "{}: {e} ± {se}",
+                c.method
+            );
+            if m == s {
+                assert_eq!(cell.efficiency, (1.0, 0.0));
+            }
+        }
+    }
+    // An estimate of 1024 samples costs more than one of 4.
+    let a = q.adaptive_index(0.001).unwrap();
+    let last = ms.spp.len() - 1;
+    assert!(cost.costs[a].micros(last) > cost.costs[a].micros(0));
+    let (c, lo, hi) = q.break_even_ns(0.001, q.paper_level()).unwrap();
+    assert!(c >= 0.0 && lo <= c && c <= hi, "{c} [{lo}, {hi}]");
+    let md = q.to_markdown();
+    for s in [
+        "#### Equal time: cost per estimate and efficiency",
+        "| method | CPU µs/estimate at 36 spp [median; IQR] | time ratio at 36 spp |",
+        "| stratified solid angle |",
+        "**When is adaptive sampling worth its cost?**",
+        "(equal_time_adaptive.svg)",
+    ] {
+        assert!(md.contains(s), "lacks {s:?}");
+    }
+    let claims = q.cost_claims();
+    assert_eq!(claims.len(), 2);
+    for c in &claims {
+        assert_eq!(c.source, "Ureña 2000, §5 (last paragraph)");
+        assert_ne!(c.verdict, Verdict::NotMeasured);
+    }
+    // With the occluders: our extension, its own figure.
+    let o = quick_occluded();
+    assert!(o.cost_claims().iter().all(|c| c.is_our_question()));
+    assert_eq!(o.cost_figure_name(), "equal_time_adaptive_occluded.svg");
+    let dir = std::env::temp_dir().join(format!("areawarp-adaptive-cost-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let fig = q.write_cost_figure(&dir).unwrap().expect("a figure");
+    assert!(fig.path.ends_with("equal_time_adaptive.svg"));
+    assert!(fig.marks >= 6 * 5, "{}", fig.marks);
+    let check = verify_figure(&fig.path).unwrap();
+    assert!(check.marks >= fig.marks && check.texts >= 4, "{check:?}");
+    assert_ne!(fig.alt, fig.title);
+    // Without a timing: no table, no claims, no figure.
+    let mut config = tiny();
+    config.cost = None;
+    let none = run_comparison(&config).unwrap();
+    assert!(none.cost_claims().is_empty() && none.cost_markdown().is_none());
+    assert!(none.write_cost_figure(&dir).unwrap().is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -137,6 +137,23 @@ fn compared(methods: &[Method]) -> Vec<Method> {
     out
 }
 
+/// The efficiency `1/(rms² · time)` of `row` relative to `base`, each
+/// given as `(rms, its standard error, time)`, and its standard error: the
+/// relative error of `1/rms²` (≈ 2·se/rms) of both, added in quadrature
+/// although common random numbers correlate them (a conservative bound),
+/// and `time_log_se`, the standard error of the log of the time ratio.
+pub fn relative_efficiency(
+    base: (f64, f64, f64),
+    row: (f64, f64, f64),
+    time_log_se: f64,
+) -> (f64, f64) {
+    let (rb, sb, tb) = base;
+    let (r, s, t) = row;
+    let e = (rb * rb * tb) / (r * r * t);
+    let rel = (4.0 * (s / r).powi(2) + 4.0 * (sb / rb).powi(2) + time_log_se.powi(2)).sqrt();
+    (e, e * rel)
+}
+
 fn table(
     scene_name: &str,
     ms: &Measurement,
@@ -199,19 +216,13 @@ fn table(
                 r.efficiency = f64::INFINITY;
                 continue;
             }
-            r.efficiency = (base.rms * base.rms * base.micros) / (r.rms * r.rms * r.micros);
-            if r.method == base.method {
-                r.efficiency_se = 0.0;
-                continue;
-            }
-            // Relative error of 1/rms² ≈ 2·se/rms for both rows (added in
-            // quadrature although common random numbers correlate them: a
-            // conservative bound), and the time ratio's spread over rounds.
-            let rel = (4.0 * (r.rms_se / r.rms).powi(2)
-                + 4.0 * (base.rms_se / base.rms).powi(2)
-                + r.time_ratio_log_se.powi(2))
-            .sqrt();
-            r.efficiency_se = r.efficiency * rel;
+            let (e, se) = relative_efficiency(
+                (base.rms, base.rms_se, base.micros),
+                (r.rms, r.rms_se, r.micros),
+                r.time_ratio_log_se,
+            );
+            r.efficiency = e;
+            r.efficiency_se = if r.method == base.method { 0.0 } else { se };
         }
     }
     EqualTimeTable {

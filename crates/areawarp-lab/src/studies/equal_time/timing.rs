@@ -54,31 +54,37 @@ impl MethodCost {
     /// (the spread of the per-round log-ratios over √rounds).
     pub fn ratio_to(&self, base: &MethodCost, spp: usize) -> (f64, f64) {
         let n = spp as f64;
-        let mut r: Vec<f64> = self
-            .rounds
-            .iter()
-            .zip(&base.rounds)
-            .map(|(a, b)| (a.1 + n * a.0) / (b.1 + n * b.0))
-            .filter(|x| *x > 0.0 && x.is_finite())
-            .collect();
-        if r.is_empty() {
-            return (f64::NAN, f64::NAN);
-        }
-        r.sort_by(f64::total_cmp);
-        let k = r.len();
-        let median = if k % 2 == 1 {
-            r[k / 2]
-        } else {
-            (r[k / 2 - 1] + r[k / 2]) / 2.0
-        };
-        if k < 2 {
-            return (median, f64::NAN);
-        }
-        let logs: Vec<f64> = r.iter().map(|x| x.ln()).collect();
-        let mean = logs.iter().sum::<f64>() / k as f64;
-        let var = logs.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / (k - 1) as f64;
-        (median, (var / k as f64).sqrt())
+        ratio_spread(
+            self.rounds
+                .iter()
+                .zip(&base.rounds)
+                .map(|(a, b)| (a.1 + n * a.0) / (b.1 + n * b.0)),
+        )
     }
+}
+
+/// The median of per-round time ratios and the standard error of the mean
+/// of their logs (their spread over √rounds); non-positive or non-finite
+/// ratios are dropped (NaN if none is left, NaN error for one).
+pub fn ratio_spread(ratios: impl Iterator<Item = f64>) -> (f64, f64) {
+    let mut r: Vec<f64> = ratios.filter(|x| *x > 0.0 && x.is_finite()).collect();
+    if r.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    r.sort_by(f64::total_cmp);
+    let k = r.len();
+    let median = if k % 2 == 1 {
+        r[k / 2]
+    } else {
+        (r[k / 2 - 1] + r[k / 2]) / 2.0
+    };
+    if k < 2 {
+        return (median, f64::NAN);
+    }
+    let logs: Vec<f64> = r.iter().map(|x| x.ln()).collect();
+    let mean = logs.iter().sum::<f64>() / k as f64;
+    let var = logs.iter().map(|l| (l - mean) * (l - mean)).sum::<f64>() / (k - 1) as f64;
+    (median, (var / k as f64).sqrt())
 }
 
 /// Times `methods` at `receivers` of `scene`: `batch` light samples per
@@ -156,6 +162,134 @@ pub fn time_methods(
                 .copied()
                 .zip(build_ns[i].iter().copied())
                 .collect(),
+            skipped: skipped[i],
+        })
+        .collect()
+}
+
+/// One estimator's cost per estimate at each sample count, measured cold
+/// ([`time_estimates`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EstimateCost {
+    /// The estimator's name.
+    pub method: String,
+    /// The sample counts timed.
+    pub spp: Vec<usize>,
+    /// Per sample count: CPU ns per estimate (mean over the receivers of
+    /// one round), over rounds.
+    pub per_estimate: Vec<Timing>,
+    /// Per sample count, per round: CPU ns per estimate, in round order
+    /// (the rounds of all estimators interleave).
+    pub rounds: Vec<Vec<f64>>,
+    /// Receivers at which the estimator could not be prepared (timed up
+    /// to the failure, not counted in the mean).
+    pub skipped: usize,
+}
+
+impl EstimateCost {
+    /// CPU µs per estimate at level `l` (the minimum over rounds).
+    pub fn micros(&self, l: usize) -> f64 {
+        self.per_estimate.get(l).map_or(f64::NAN, |t| t.min * 1e-3)
+    }
+
+    /// The time per estimate at level `l` over `base`'s: the median of the
+    /// per-round ratios and the standard error of their log
+    /// ([`ratio_spread`]).
+    pub fn ratio_to(&self, base: &EstimateCost, l: usize) -> (f64, f64) {
+        match (self.rounds.get(l), base.rounds.get(l)) {
+            (Some(a), Some(b)) => ratio_spread(a.iter().zip(b).map(|(x, y)| x / y)),
+            _ => (f64::NAN, f64::NAN),
+        }
+    }
+}
+
+/// Times whole estimates of `estimators` at `receivers` of `scene`, *cold*:
+/// per receiver and sample count `n`, the estimator is prepared anew and
+/// one `n`-sample estimate made, so that all its per-receiver work (for
+/// adaptive sampling, the partition it builds and memoizes while placing
+/// the samples) is charged to that one estimate, as in a renderer that
+/// makes one estimate per pixel. For the estimators flagged in
+/// `uses_points`, generating their `n` jittered points is timed too
+/// (estimators that draw their own points do it inside their estimate).
+/// The partner points (used by MIS only) are generated untimed.
+///
+/// `rounds` timed rounds (at least one) follow one untimed warm-up round;
+/// within a round, each sample count times every estimator in turn,
+/// rotating which goes first. Single-threaded (call it outside rayon's
+/// pool work).
+///
+/// # Panics
+/// If `uses_points` and `estimators` differ in length.
+pub fn time_estimates(
+    scene: &Scene,
+    receivers: &[Receiver],
+    estimators: &[&dyn ReceiverEstimator],
+    uses_points: &[bool],
+    spp: &[usize],
+    rounds: usize,
+    seed: u64,
+) -> Vec<EstimateCost> {
+    assert_eq!(estimators.len(), uses_points.len());
+    let nm = estimators.len();
+    let rounds = rounds.max(1);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let max_n = spp.iter().copied().max().unwrap_or(1).max(1);
+    let (mut light, mut partner) = (Vec::with_capacity(max_n), Vec::with_capacity(max_n));
+    let mut skipped = vec![0; nm];
+    // [method][level][round]
+    let mut ns = vec![vec![Vec::with_capacity(rounds); spp.len()]; nm];
+    for round in 0..=rounds {
+        for (l, &n) in spp.iter().enumerate() {
+            let n = n.max(1);
+            PointSet::Jittered.fill(n, &mut rng, &mut partner);
+            for k in 0..nm {
+                let i = (k + round + l) % nm;
+                let (mut done, mut acc) = (0usize, 0.0);
+                let t = thread_cpu_ns();
+                for (j, r) in receivers.iter().enumerate() {
+                    if uses_points[i] {
+                        PointSet::Jittered.fill(n, &mut rng, &mut light);
+                    }
+                    let batch = Batch {
+                        light: if uses_points[i] { &light } else { &partner },
+                        partner: &partner,
+                        point_set: PointSet::Jittered,
+                        seed: areawarp::estimate::job_seed(
+                            seed,
+                            (round * spp.len() + l) as u64 * 1_000_003 + j as u64,
+                        ),
+                    };
+                    match estimators[i].prepare(black_box(scene), black_box(r)) {
+                        Ok(mut p) => {
+                            if let Ok(v) = p.estimate(black_box(&batch)) {
+                                acc += v;
+                            }
+                            done += 1;
+                        }
+                        Err(_) => {
+                            if round == 0 && l == 0 {
+                                skipped[i] += 1;
+                            }
+                        }
+                    }
+                }
+                black_box(acc);
+                let elapsed = thread_cpu_ns().saturating_sub(t) as f64;
+                if round > 0 {
+                    ns[i][l].push(elapsed / done.max(1) as f64);
+                }
+            }
+        }
+    }
+    (0..nm)
+        .map(|i| EstimateCost {
+            method: estimators[i].name(),
+            spp: spp.to_vec(),
+            per_estimate: ns[i]
+                .iter()
+                .map(|v| Timing::of(v.clone(), receivers.len()))
+                .collect(),
+            rounds: ns[i].clone(),
             skipped: skipped[i],
         })
         .collect()

@@ -331,6 +331,47 @@ impl GlossyStudy {
             .collect()
     }
 
+    /// The answer to our question "does combining each light sample with a
+    /// BRDF sample by MIS lower the noise on the glossy receiver?" on the
+    /// error measure `metric`, from [`GlossyStudy::mis_ratios`]: `yes`
+    /// ([`Verdict::Reproduced`]) when every sampler's 95% interval of
+    /// RMS(+MIS)/RMS(alone) lies below 1, `mixed` when some but not all
+    /// do (MIS lowers the noise of some samplers only), direction only
+    /// ([`Verdict::Qualitative`]) when every point is below 1 but no
+    /// interval, `no` otherwise; with the ratios as text.
+    pub fn mis_answer(&self, metric: Metric) -> (Verdict, String) {
+        let study = GlossyStudy {
+            measurement: self.measurement.with_metric(metric),
+            ..self.clone()
+        };
+        let ratios = study.mis_ratios();
+        let below = |r: f64, se: f64| crate::verdict::interval(r, se).1 < 1.0;
+        let verdict = if ratios.is_empty() {
+            Verdict::NotMeasured
+        } else if ratios.iter().all(|x| below(x.1, x.2)) {
+            Verdict::Reproduced
+        } else if ratios.iter().any(|x| below(x.1, x.2)) {
+            Verdict::Mixed
+        } else if ratios.iter().all(|x| x.1 < 1.0) {
+            Verdict::Qualitative
+        } else {
+            Verdict::NotReproduced
+        };
+        let text = ratios
+            .iter()
+            .map(|(s, r, se)| {
+                format!(
+                    "{} {} {}",
+                    s.name(),
+                    crate::verdict::sig3(*r),
+                    crate::verdict::interval_text(*r, *se)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        (verdict, text)
+    }
+
     fn body_markdown(&self) -> String {
         let c = &self.config;
         let ms = &self.measurement;
