@@ -135,14 +135,7 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
             None
         } else {
             let mut f = |u: &T| recipe.marginal_inverse_of(u);
-            // F⁻¹ may be as singular as u^(1/(k+1)) at u = 0 (a Phong lobe
-            // of exponent k seen from the horizon: σw ~ s^k), which a
-            // polynomial matches to `tol` only on a panel narrower than
-            // about tol^(k+1) (1e-106 for k = 10 at 1e-9): the marginal's
-            // panels may narrow to 2^(−8p) (in f64 and f32 that is below the
-            // smallest float, so the floats themselves are the limit).
-            let narrowest = T::exp2i(-(8 * T::precision() as i32));
-            let (table, stats) = Table1::fit(&mut f, degree, &tol, &narrowest)?;
+            let (table, stats) = Table1::fit(&mut f, degree, &tol, &min_width)?;
             report.marginal_panels = stats.panels;
             report.evaluations += stats.evaluations;
             report.estimated_error = stats.estimated_error;
