@@ -738,7 +738,10 @@ fn derived_and_tabulated_variants_through_the_cli() {
     // A map without a derived variant, and a tolerance f32 cannot hold, are
     // error lines; a tolerance that is not positive is refused.
     let (out, ok) = run_eval(&["--variant", "derived"], "disk 0.3 0.7\n");
-    assert!(!ok && out.starts_with("disk error:"), "{out}");
+    assert!(
+        !ok && out.starts_with("disk error:") && out.contains("no derived variant for disk"),
+        "{out}"
+    );
     let (out, ok) = run_eval(
         &["--variant", "tabulated:1e-9", "--precision", "f32"],
         "ggx 0.5 0.3 0.7\n",

@@ -59,6 +59,12 @@ pub fn eval_variant<T: Real>(
     variant: RecipeVariant,
     inverse: bool,
 ) -> Result<String, String> {
+    if !WITH_VARIANTS.contains(&name) {
+        return Err(format!(
+            "no derived variant for {name} (maps with derived and tabulated variants: {})",
+            WITH_VARIANTS.join(", ")
+        ));
+    }
     let params = match name {
         "hemisphere" | "sphere" => 0,
         _ => 1,
@@ -79,10 +85,7 @@ pub fn eval_variant<T: Real>(
         "phong" => run(Phong::new(n[0].clone()), rest, variant, inverse),
         "hemisphere" => run(Ok(Hemisphere::new()), rest, variant, inverse),
         "sphere" => run(Ok(Sphere::new()), rest, variant, inverse),
-        _ => Err(format!(
-            "no derived or tabulated variant (maps with variants: {})",
-            WITH_VARIANTS.join(", ")
-        )),
+        _ => Err(format!("no derived variant for {name}")),
     }
 }
 

@@ -2,7 +2,7 @@
 //! every s and fixed at construction, on which σw(s, ·) is interpolated at
 //! sample time (no allocation: stack buffers of [`MAX_NODES`]).
 
-use super::partition::{Settings, adaptive_partition};
+use super::partition::{Settings, adaptive_partition, fit_panel};
 use super::piecewise::{Masses, PanelView, invert_in_panel};
 use crate::real::Real;
 use crate::recipe::AreaDensity;
@@ -41,6 +41,10 @@ pub(crate) struct ConditionalGrid<T> {
 pub(crate) struct CheckedNormalizer<T> {
     pub value: T,
     pub resolved: bool,
+    /// Panels (index, node count, tail) that a probe at this s resolves
+    /// with more nodes than the grid has: raised after the partition
+    /// ([`ConditionalGrid::upgrade`]).
+    pub upgrades: Vec<(usize, usize, T)>,
 }
 
 impl<T: Real> ConditionalGrid<T> {
@@ -176,18 +180,65 @@ impl<T: Real> ConditionalGrid<T> {
             let width = p.b.clone() - &p.a;
             let allowed = (T::from_i64(TAIL_ULPS) * &T::unit_roundoff())
                 .max(&(p.tail.clone() * &T::from_i64(4)));
-            panel_scales.push((tail(&coeffs[..p.n], &scale) <= allowed, scale * &width));
+            let t = tail(&coeffs[..p.n], &scale);
+            panel_scales.push((t.clone() <= allowed, t, j, scale * &width));
         }
         let negligible = T::unit_roundoff().square() * &value.abs();
-        for (res, weight) in panel_scales {
+        let mut upgrades = Vec::new();
+        for (res, _, j, weight) in panel_scales {
             if !res && weight > negligible {
-                ok = false;
+                // What a probe at this s would have made of the panel: if
+                // one panel of more nodes resolves it (a conditional that
+                // is a constant plus rounding noise whose level varies with
+                // s), the panel takes those nodes after the partition;
+                // otherwise the t-panels are rebuilt with s as a probe.
+                match self.refit(def, s, j, levels) {
+                    Some((n, t)) => upgrades.push((j, n, t)),
+                    None => ok = false,
+                }
             }
         }
         let finite = value.is_finite();
         CheckedNormalizer {
             value,
             resolved: ok && finite,
+            upgrades,
+        }
+    }
+
+    /// Panel j at this s, fitted as a probe would fit it (from 17 points,
+    /// up to the type's largest level, the noise-plateau rule included):
+    /// its node count and tail if one panel suffices, else `None`.
+    fn refit<D: AreaDensity<T>>(
+        &self,
+        def: &D,
+        s: &T,
+        j: usize,
+        levels: &ChebyshevLevels<T>,
+    ) -> Option<(usize, T)> {
+        let p = &self.panels[j];
+        let mut f = |x: &T| def.sigma(s, x);
+        let mut evaluations = 0;
+        let start = Settings::<T>::for_type().start_n;
+        let fit = fit_panel(
+            &mut f,
+            &p.a,
+            &p.b,
+            levels,
+            (start, usize::MAX),
+            &mut evaluations,
+        );
+        fit.resolved.then_some((fit.n, fit.tail))
+    }
+
+    /// Raises panel j to `n` nodes (if it has fewer) and its accepted tail
+    /// to `tail` (if larger).
+    pub fn upgrade(&mut self, j: usize, n: usize, tail: &T, levels: &ChebyshevLevels<T>) {
+        let p = &self.panels[j];
+        if n > p.n || *tail > p.tail {
+            let worst = p.tail.max(tail);
+            let n = n.max(p.n);
+            self.panels[j] = TPanel::new(p.a.clone(), p.b.clone(), n, worst, levels);
         }
     }
 

@@ -116,7 +116,7 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
         let mut rounds = 0;
         let (grid, partition) = loop {
             rounds += 1;
-            let (grid, probes_resolved, evals) =
+            let (mut grid, probes_resolved, evals) =
                 ConditionalGrid::build(&def, &probes, &levels, &settings);
             evaluations += evals;
             if !probes_resolved {
@@ -125,16 +125,28 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
                 });
             }
             let mut failures: Vec<T> = Vec::new();
+            let mut upgrades: Vec<(T, usize, usize, T)> = Vec::new();
             let mut f = |s: &T| {
                 let z = grid.normalizer_checked(&def, s, &levels);
-                if !z.resolved && failures.len() < 8 {
+                if !z.resolved {
                     failures.push(s.clone());
+                }
+                for (j, n, t) in z.upgrades {
+                    upgrades.push((s.clone(), j, n, t));
                 }
                 z.value
             };
             let partition = adaptive_partition(&mut f, &levels, &settings);
             evaluations += partition.evaluations * grid.nodes_total();
+            // The conditional matters only where an s = F⁻¹(y) can land:
+            // not inside the unreachable right tail of the marginal.
+            failures.retain(|s| *s <= partition.tail_start);
             if failures.is_empty() {
+                for (s, j, n, t) in &upgrades {
+                    if *s <= partition.tail_start {
+                        grid.upgrade(*j, *n, t, &levels);
+                    }
+                }
                 break (grid, partition);
             }
             if rounds >= MAX_ROUNDS {
@@ -142,6 +154,7 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
                     what: "the conditional density sigma*w(s, .) between the probes",
                 });
             }
+            failures.truncate(8);
             probes.extend(failures);
         };
         if !partition.resolved {

@@ -34,6 +34,9 @@ pub(crate) struct PanelFit<T> {
     pub resolved: bool,
 }
 
+/// The fewest points at which a noise plateau is recognised ([`accept`]).
+const PLATEAU_MIN_N: usize = 17;
+
 /// The largest tail accepted as a noise plateau: 2^(−p/2).
 pub(crate) fn noise_ceiling<T: Real>() -> T {
     T::exp2i(-((T::precision() / 2) as i32))
@@ -47,7 +50,9 @@ pub(crate) fn accept<T: Real>(tail: &T, previous: Option<&T>, n: usize) -> bool 
     }
     match previous {
         Some(prev) => {
-            n >= 17 && *tail <= noise_ceiling::<T>() && tail.clone() * &T::from_i64(8) >= *prev
+            n >= PLATEAU_MIN_N
+                && *tail <= noise_ceiling::<T>()
+                && tail.clone() * &T::from_i64(8) >= *prev
         }
         None => false,
     }
@@ -155,14 +160,18 @@ pub(crate) fn fit_panel<T: Real>(
         if ok {
             // The coarsest nested level that is no worse: still clean, or
             // for a fit accepted at a noise plateau, within twice its tail
-            // (a constant plus noise needs 5 points, not 33).
-            let allowed = if clean {
-                T::from_i64(TAIL_ULPS) * &T::unit_roundoff()
+            // and not below the 17 points a plateau is recognised from (the
+            // interpolant of noisy values averages the noise in its
+            // integral over its points: a constant plus noise of 30u
+            // integrated from 5 points puts the conditional's inverse 10u
+            // off, from 17 points a few u).
+            let (allowed, floor_n) = if clean {
+                (T::from_i64(TAIL_ULPS) * &T::unit_roundoff(), LEVELS[0])
             } else {
                 let current = fit.as_ref().map_or_else(T::zero, |f| f.tail.clone());
-                current * &T::from_i64(2)
+                (current * &T::from_i64(2), PLATEAU_MIN_N)
             };
-            while let Some(current) = fit.as_ref().filter(|f| f.n > LEVELS[0]) {
+            while let Some(current) = fit.as_ref().filter(|f| f.n > floor_n) {
                 let coarse: Vec<T> = current.values.iter().step_by(2).cloned().collect();
                 let level = levels.level(coarse.len());
                 let (c, sc, fl, t, _) = interpolant(level, &coarse, a, b);
@@ -205,6 +214,10 @@ pub(crate) struct Settings<T> {
     pub start_n: usize,
     /// Panels to start from (a power of 2): more catch narrower peaks.
     pub start_panels: i64,
+    /// The factor S of the unreachable right tail: the panels at the right
+    /// end whose combined mass is bounded by u·∫f/S are not refined for
+    /// relative accuracy ([`Partition::tail_start`]).
+    pub tail_safety: i64,
 }
 
 impl<T: Real> Settings<T> {
@@ -216,6 +229,7 @@ impl<T: Real> Settings<T> {
             ratio: T::from_i64(8),
             start_n: 17,
             start_panels: 16,
+            tail_safety: 16,
         }
     }
 }
@@ -229,8 +243,27 @@ pub(crate) struct Partition<T> {
     /// Evaluations of `f` spent.
     pub evaluations: usize,
     /// The largest accepted tail (relative to its panel's largest value)
-    /// over the non-negligible panels: the interpolants' accuracy.
+    /// over the non-negligible panels left of `tail_start`: the
+    /// interpolants' accuracy where an inversion can land.
     pub worst_tail: T,
+    /// Where the unreachable right tail starts (1 if there is none): the
+    /// panels right of it hold a combined mass below u·∫f/S (bounded by
+    /// 2·Σ|c_j|·width per panel, the interpolant's sup and as much again),
+    /// so that no y < 1 of the type inverts into them (1 − y ≥ u), and they
+    /// are resolved to the type's precision of their own largest value but
+    /// not refined for relative accuracy.
+    pub tail_start: T,
+}
+
+/// A bound on the panel's mass: 2·Σ|c_j|·width (Σ|c_j| bounds the
+/// interpolant on the panel; the factor 2 covers the interpolation error of
+/// a resolved panel many times over).
+fn mass_bound<T: Real>(fit: &PanelFit<T>) -> T {
+    let mut sum = T::zero();
+    for c in &fit.coeffs {
+        sum += &c.abs();
+    }
+    sum * &(fit.b.clone() - &fit.a) * &T::from_i64(2)
 }
 
 /// Builds the partition: first by resolution alone (bisecting unresolved
@@ -282,6 +315,18 @@ pub(crate) fn adaptive_partition<T: Real>(
         total += &fit.integral(levels).abs();
     }
     let negligible = T::unit_roundoff().square() * &total;
+    // The unreachable right tail: the longest run of panels at the right
+    // end whose mass bounds sum to at most u·total/S.
+    let reachable_mass = T::unit_roundoff() * &total / &T::from_i64(settings.tail_safety);
+    let mut tail_start = T::one();
+    let mut suffix = T::zero();
+    for fit in fits.iter().rev() {
+        suffix += &mass_bound(fit);
+        if !(suffix <= reachable_mass) {
+            break;
+        }
+        tail_start = fit.a.clone();
+    }
     let mut worst_tail = T::zero();
     // Pass 2: relative accuracy.
     let mut out = Vec::with_capacity(fits.len());
@@ -292,7 +337,8 @@ pub(crate) fn adaptive_partition<T: Real>(
         let width = fit.b.clone() - &fit.a;
         let splittable = width > settings.min_width;
         let matters = fit.scale.clone() * &width > negligible;
-        let steep = matters && fit.scale > settings.ratio.clone() * &fit.floor;
+        let steep =
+            matters && fit.b <= tail_start && fit.scale > settings.ratio.clone() * &fit.floor;
         if splittable && ((matters && !fit.resolved) || steep) {
             let (l, r) = split(f, &fit, levels, &mut evaluations);
             stack.push(r);
@@ -300,7 +346,9 @@ pub(crate) fn adaptive_partition<T: Real>(
         } else {
             if matters {
                 all_resolved &= fit.resolved;
-                worst_tail = worst_tail.max(&fit.tail);
+                if fit.b <= tail_start {
+                    worst_tail = worst_tail.max(&fit.tail);
+                }
             }
             out.push(fit);
         }
@@ -310,6 +358,7 @@ pub(crate) fn adaptive_partition<T: Real>(
         resolved: all_resolved,
         evaluations,
         worst_tail,
+        tail_start,
     }
 }
 
