@@ -643,6 +643,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             let o = &lune_edges[outer_j].1;
             let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
             let mut shared = [false, false];
+            let mut r0 = [zero.clone(), zero.clone()];
             let outer_range = range_in(lune_edges[outer_j].0, o, k);
             let inner_range = inner.map(|i| range_in(lune_edges[i].0, &lune_edges[i].1, k));
             if let Some(i) = inner {
@@ -653,6 +654,10 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                     let b = o.nz.clone() * &es.k0 - &(e.nz.clone() * &os.k0);
                     shared[si] = share_at(lune_edges[i].0, lune_edges[outer_j].0, meridian);
                     d[si] = (if shared[si] { zero.clone() } else { a }, b);
+                    if shared[si] {
+                        // r at the shared vertex (on the side's meridian).
+                        r0[si] = o.abs_nz.clone() / &(o.nz2.clone() + &os.g0.square()).sqrt();
+                    }
                 }
             }
             pairs.push(Pair {
@@ -660,6 +665,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 outer: first_edge + outer_j,
                 d,
                 shared,
+                r0,
             });
             ranges.push(EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened());
             j = outer_j + 1;

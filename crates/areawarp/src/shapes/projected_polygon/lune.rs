@@ -143,6 +143,10 @@ pub(super) struct Pair<T> {
     /// Whether the two edges meet at each side's meridian (an extremal
     /// vertex of the polygon: the interval closes there).
     pub shared: [bool; 2],
+    /// r of the shared vertex at each side where `shared` (0 elsewhere):
+    /// the polar triangle's fixed side in [`Lune::swept`], computed once at
+    /// construction.
+    pub r0: [T; 2],
 }
 
 /// The range of r² and of z² over a part of an edge, or over the region
@@ -403,10 +407,7 @@ impl<T: Real> Lune<T> {
             let r_i = (e.nz2.clone() / &den_i).sqrt();
             let r_sum = r_o + &r_i;
             if r_sum > T::zero() {
-                // r at the side's meridian (the shared vertex).
-                let g0 = &o.side[si].g0;
-                let r0 = o.abs_nz.clone() / &(o.nz2.clone() + &g0.square()).sqrt();
-                tri += &(r0 * &(len / &r_sum));
+                tri += &(p.r0[si].clone() * &(len / &r_sum));
             }
         }
         sum + &(tri * s)

@@ -93,6 +93,7 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             outer: p.outer,
             d: [n2::<T>(&p.d[0]), n2::<T>(&p.d[1])],
             shared: p.shared,
+            r0: [T::narrow(&p.r0[0]), T::narrow(&p.r0[1])],
         })
         .collect();
     let ranges = w.ranges.iter().map(range::<T>).collect();
