@@ -36,6 +36,7 @@ mod alt;
 mod check;
 mod draw;
 mod grid;
+mod heat_map;
 #[cfg(test)]
 mod tests;
 
@@ -43,11 +44,9 @@ pub use check::{
     FigureCheck, FigureKind, PngImage, SvgSummary, decode_png, encode_png, inspect_svg,
     verify_figure,
 };
-pub use draw::{
-    write_heat_map_png, write_heat_map_svg, write_line_plot_png, write_line_plot_svg,
-    write_scatter_png, write_scatter_svg,
-};
+pub use draw::{write_line_plot_png, write_line_plot_svg, write_scatter_png, write_scatter_svg};
 pub use grid::{ColorMap, ColorScale, ImageGrid, ImagePanel, diverging, write_image_grid_png};
+pub use heat_map::{write_heat_map_png, write_heat_map_svg};
 
 use std::io;
 use std::path::{Path, PathBuf};
