@@ -24,15 +24,11 @@ use crate::real::Real;
 use crate::shapes::turns::positive;
 use crate::shapes::wide::floor_log2;
 
-/// ω and its complements at one column `x`.
+/// ω at one column `x` and the roots it is formed from.
 #[derive(Clone, Debug)]
 pub(super) struct Column<T> {
     /// `ω(x)`.
     pub w: T,
-    /// `1 − ω(x)`, without cancellation.
-    pub one_m_w: T,
-    /// `1 + ω(x)`, without cancellation.
-    pub one_p_w: T,
     /// `N(x) = r₀(x) ℓ₁ + r₁(x) ℓ₀`.
     pub n: T,
     /// `r₀(x)`.
@@ -141,27 +137,27 @@ fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
     let r1 = (x2 + k.l1sq).sqrt();
     let n = r0.clone() * k.l1 + &(r1.clone() * k.l0);
     let w = x.clone() * k.sigma / &n;
+    Column { w, n, r0, r1 }
+}
+
+/// `(1 − ω(x), 1 + ω(x))` at the column `col` of `x`, without cancellation
+/// (only the anchors need them: computed for the anchor's column alone).
+#[inline(always)]
+fn complements<T: Real>(col: &Column<T>, x: &T, k: &Lengths<'_, T>) -> (T, T) {
     let one = T::one();
     let l0l1 = k.l0.clone() * k.l1;
-    let (one_m_w, one_p_w) = if *x > T::zero() {
+    let (r0, r1, n, w) = (&col.r0, &col.r1, &col.n, &col.w);
+    if *x > T::zero() {
         // N − xσ = ℓ₁(r₀ − x) + ℓ₀(r₁ − x), rⱼ − x = ℓⱼ²/(rⱼ + x).
         let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / &n;
-        (c, one + &w)
+            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / n;
+        (c, one + w)
     } else if *x < T::zero() {
         let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / &n;
-        (one - &w, c)
+            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / n;
+        (one - w, c)
     } else {
         (one.clone(), one)
-    };
-    Column {
-        w,
-        one_m_w,
-        one_p_w,
-        n,
-        r0,
-        r1,
     }
 }
 
@@ -617,17 +613,14 @@ fn anchor<T: Real>(
     let s_phi = sdw.clone() * &inv_n * scale;
     let c_phi = cd.clone() * &inv_n;
     let sdcd_n = sd.clone() * cd * &inv_n;
-    let s_p = col.one_m_w.clone() * &sdcd_n * scale;
-    let s_m = col.one_p_w.clone() * &sdcd_n * scale;
+    let (one_m_w, one_p_w) = complements(col, x, k);
+    let s_p = one_m_w.clone() * &sdcd_n * scale;
+    let s_m = one_p_w.clone() * &sdcd_n * scale;
     let cd2 = cd.square();
     let sd2w = sd.clone() * &sdw;
     let c_p = (cd2.clone() + &sd2w) * &inv_n;
     let c_m = (cd2 - &sd2w) * &inv_n;
-    let one_m_abs_w = if w >= T::zero() {
-        col.one_m_w.clone()
-    } else {
-        col.one_p_w.clone()
-    };
+    let one_m_abs_w = if w >= T::zero() { one_m_w } else { one_p_w };
     let sqrt_s = two * k.l0 * k.l1 * k.sigma / &col.n;
     let n_over_sigma = col.n.clone() / k.sigma;
     let w_zero = w == T::zero();
