@@ -22,65 +22,16 @@
 
 use areawarp::precision_choice::Mixed;
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
-use areawarp::{LightWarp, Real, Vec3, Warp};
+use areawarp::{Real, Vec3, Warp};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
 
-const N: usize = 256;
-
-/// A 64-bit LCG in [0, 1).
-fn lcg(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn batch<T: Real>() -> Vec<(T, T)> {
-    let mut next = lcg(0x2545_F491_4F6C_DD1D);
-    (0..N)
-        .map(|_| (T::from_f64(next()), T::from_f64(next())))
-        .collect()
-}
-
-/// Triangle lights (points) and shading points below them.
-fn triangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
-    let mut next = lcg(7);
-    (0..N)
-        .map(|_| {
-            let o = Vec3::from_f64(next() - 0.5, next() - 0.5, -1.0 - next());
-            [
-                Vec3::from_f64(1.0, 0.1, 0.0),
-                Vec3::from_f64(0.2, 1.0, 0.1),
-                Vec3::from_f64(0.0, 0.3, 1.0),
-                o,
-            ]
-        })
-        .collect()
-}
-
-/// A rectangle light and shading points below it.
-fn rectangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
-    let mut next = lcg(11);
-    (0..N)
-        .map(|_| {
-            [
-                Vec3::from_f64(-0.5, -0.4, 1.0),
-                Vec3::from_f64(1.0, 0.0, 0.0),
-                Vec3::from_f64(0.0, 0.8, 0.0),
-                Vec3::from_f64(2.0 * next() - 1.0, 2.0 * next() - 1.0, -next()),
-            ]
-        })
-        .collect()
-}
-
-#[inline]
-fn fold<T: Real>(acc: T, p: &Vec3<T>, pdf: &T) -> T {
-    acc + &p.x + &p.y + &p.z + pdf
-}
+#[path = "support/one_shot_data.rs"]
+mod data;
+use data::{
+    N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangles, triangle_one_shot,
+    triangle_per_sample, triangles,
+};
 
 fn widen(v: &Vec3<f32>) -> Vec3<f64> {
     Vec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
@@ -98,31 +49,10 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
     let [a, b, cc, o] = &shapes[0];
     let t = SphericalTriangle::from_points(a.clone(), b.clone(), cc.clone(), o.clone()).unwrap();
     g.bench_function("per-sample", |bch| {
-        bch.iter(|| {
-            uv.iter().fold(T::zero(), |acc, (u, v)| {
-                let (p, pdf) = t.map_with_pdf(black_box(u), black_box(v));
-                fold(acc, &p, &pdf)
-            })
-        })
+        bch.iter(|| triangle_per_sample(&t, &uv))
     });
     g.bench_function("one-shot", |bch| {
-        bch.iter(|| {
-            shapes
-                .iter()
-                .zip(&uv)
-                .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
-                    let (p, pdf) = SphericalTriangle::sample_once_from_points(
-                        black_box(a),
-                        b,
-                        c,
-                        black_box(o),
-                        u,
-                        v,
-                    )
-                    .unwrap();
-                    fold(acc, &p, &pdf)
-                })
-        })
+        bch.iter(|| triangle_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {
@@ -197,25 +127,10 @@ fn rectangle_in<T: Real>(c: &mut Criterion, name: &str) {
     let [s, ex, ey, o] = &shapes[0];
     let r = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone()).unwrap();
     g.bench_function("per-sample", |bch| {
-        bch.iter(|| {
-            uv.iter().fold(T::zero(), |acc, (u, v)| {
-                let smp = r.sample_light([black_box(u).clone(), black_box(v).clone()]);
-                fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
-            })
-        })
+        bch.iter(|| rectangle_per_sample(&r, &uv))
     });
     g.bench_function("one-shot", |bch| {
-        bch.iter(|| {
-            shapes
-                .iter()
-                .zip(&uv)
-                .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
-                    let smp =
-                        SphericalRectangle::sample_once(black_box(s), ex, ey, black_box(o), u, v)
-                            .unwrap();
-                    fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
-                })
-        })
+        bch.iter(|| rectangle_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {

@@ -24,15 +24,11 @@ use crate::real::Real;
 use crate::shapes::turns::positive;
 use crate::shapes::wide::floor_log2;
 
-/// ω and its complements at one column `x`.
+/// ω at one column `x` and the roots it is formed from.
 #[derive(Clone, Debug)]
 pub(super) struct Column<T> {
     /// `ω(x)`.
     pub w: T,
-    /// `1 − ω(x)`, without cancellation.
-    pub one_m_w: T,
-    /// `1 + ω(x)`, without cancellation.
-    pub one_p_w: T,
     /// `N(x) = r₀(x) ℓ₁ + r₁(x) ℓ₀`.
     pub n: T,
     /// `r₀(x)`.
@@ -141,27 +137,27 @@ fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
     let r1 = (x2 + k.l1sq).sqrt();
     let n = r0.clone() * k.l1 + &(r1.clone() * k.l0);
     let w = x.clone() * k.sigma / &n;
+    Column { w, n, r0, r1 }
+}
+
+/// `(1 − ω(x), 1 + ω(x))` at the column `col` of `x`, without cancellation
+/// (only the anchors need them: computed for the anchor's column alone).
+#[inline(always)]
+fn complements<T: Real>(col: &Column<T>, x: &T, k: &Lengths<'_, T>) -> (T, T) {
     let one = T::one();
     let l0l1 = k.l0.clone() * k.l1;
-    let (one_m_w, one_p_w) = if *x > T::zero() {
+    let (r0, r1, n, w) = (&col.r0, &col.r1, &col.n, &col.w);
+    if *x > T::zero() {
         // N − xσ = ℓ₁(r₀ − x) + ℓ₀(r₁ − x), rⱼ − x = ℓⱼ²/(rⱼ + x).
         let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / &n;
-        (c, one + &w)
+            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / n;
+        (c, one + w)
     } else if *x < T::zero() {
         let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / &n;
-        (one - &w, c)
+            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / n;
+        (one - w, c)
     } else {
         (one.clone(), one)
-    };
-    Column {
-        w,
-        one_m_w,
-        one_p_w,
-        n,
-        r0,
-        r1,
     }
 }
 
@@ -337,6 +333,13 @@ impl<T: Real> Robust<T> {
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
     /// `x_u` (scaled local), for `u ∈ [0, 1]`.
     pub fn column_at(&self, u: &T) -> (T, T) {
+        self.column_at_inline(u)
+    }
+
+    /// [`Robust::column_at`] inlined into its caller (the one-shot path,
+    /// where the shape's constants need not be stored first).
+    #[inline(always)]
+    pub fn column_at_inline(&self, u: &T) -> (T, T) {
         let half = T::from_ratio(1, 2);
         let (a, uu, mirrored) = if *u <= half {
             (&self.anchors[0], u.clone(), false)
@@ -401,6 +404,12 @@ impl<T: Real> Robust<T> {
     /// The row of the sample in column `x`: `(η, y_v)` with
     /// `η = (y_v − y₀)/(y₁ − y₀)`, for `v ∈ [0, 1]`.
     pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
+        self.row_at_inline(x, v)
+    }
+
+    /// [`Robust::row_at`] inlined into its caller.
+    #[inline(always)]
+    pub fn row_at_inline(&self, x: &T, v: &T) -> (T, T) {
         let one = T::one();
         let x2 = x.square();
         let d2 = x2.clone() + &self.h2;
@@ -617,17 +626,14 @@ fn anchor<T: Real>(
     let s_phi = sdw.clone() * &inv_n * scale;
     let c_phi = cd.clone() * &inv_n;
     let sdcd_n = sd.clone() * cd * &inv_n;
-    let s_p = col.one_m_w.clone() * &sdcd_n * scale;
-    let s_m = col.one_p_w.clone() * &sdcd_n * scale;
+    let (one_m_w, one_p_w) = complements(col, x, k);
+    let s_p = one_m_w.clone() * &sdcd_n * scale;
+    let s_m = one_p_w.clone() * &sdcd_n * scale;
     let cd2 = cd.square();
     let sd2w = sd.clone() * &sdw;
     let c_p = (cd2.clone() + &sd2w) * &inv_n;
     let c_m = (cd2 - &sd2w) * &inv_n;
-    let one_m_abs_w = if w >= T::zero() {
-        col.one_m_w.clone()
-    } else {
-        col.one_p_w.clone()
-    };
+    let one_m_abs_w = if w >= T::zero() { one_m_w } else { one_p_w };
     let sqrt_s = two * k.l0 * k.l1 * k.sigma / &col.n;
     let n_over_sigma = col.n.clone() / k.sigma;
     let w_zero = w == T::zero();

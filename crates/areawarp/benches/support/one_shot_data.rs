@@ -1,0 +1,109 @@
+//! The shading points, lights and `(u, v)` shared by `one_shot.rs` and
+//! `one_shot_min.rs`.
+
+use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::{LightWarp, Real, Vec3, Warp};
+use std::hint::black_box;
+
+/// Shading points (and samples) per batch.
+pub const N: usize = 256;
+
+/// A 64-bit LCG in [0, 1).
+pub fn lcg(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// `N` pairs `(u, v)` in [0, 1)².
+pub fn batch<T: Real>() -> Vec<(T, T)> {
+    let mut next = lcg(0x2545_F491_4F6C_DD1D);
+    (0..N)
+        .map(|_| (T::from_f64(next()), T::from_f64(next())))
+        .collect()
+}
+
+/// Triangle lights (points) and shading points below them.
+pub fn triangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
+    let mut next = lcg(7);
+    (0..N)
+        .map(|_| {
+            let o = Vec3::from_f64(next() - 0.5, next() - 0.5, -1.0 - next());
+            [
+                Vec3::from_f64(1.0, 0.1, 0.0),
+                Vec3::from_f64(0.2, 1.0, 0.1),
+                Vec3::from_f64(0.0, 0.3, 1.0),
+                o,
+            ]
+        })
+        .collect()
+}
+
+/// A rectangle light and shading points below it.
+pub fn rectangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
+    let mut next = lcg(11);
+    (0..N)
+        .map(|_| {
+            [
+                Vec3::from_f64(-0.5, -0.4, 1.0),
+                Vec3::from_f64(1.0, 0.0, 0.0),
+                Vec3::from_f64(0.0, 0.8, 0.0),
+                Vec3::from_f64(2.0 * next() - 1.0, 2.0 * next() - 1.0, -next()),
+            ]
+        })
+        .collect()
+}
+
+#[inline]
+pub fn fold<T: Real>(acc: T, p: &Vec3<T>, pdf: &T) -> T {
+    acc + &p.x + &p.y + &p.z + pdf
+}
+
+/// One batch of the triangle `t` built once: `(direction, pdf)` per `(u, v)`.
+#[inline(always)]
+pub fn triangle_per_sample<T: Real>(t: &SphericalTriangle<T>, uv: &[(T, T)]) -> T {
+    uv.iter().fold(T::zero(), |acc, (u, v)| {
+        let (p, pdf) = t.map_with_pdf(black_box(u), black_box(v));
+        fold(acc, &p, &pdf)
+    })
+}
+
+/// One batch of one-shot samples: construct + one sample per shading point.
+#[inline(always)]
+pub fn triangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
+            let (p, pdf) =
+                SphericalTriangle::sample_once_from_points(black_box(a), b, c, black_box(o), u, v)
+                    .unwrap();
+            fold(acc, &p, &pdf)
+        })
+}
+
+/// One batch of the rectangle `r` built once: a light sample per `(u, v)`.
+#[inline(always)]
+pub fn rectangle_per_sample<T: Real>(r: &SphericalRectangle<T>, uv: &[(T, T)]) -> T {
+    uv.iter().fold(T::zero(), |acc, (u, v)| {
+        let smp = r.sample_light([black_box(u).clone(), black_box(v).clone()]);
+        fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+    })
+}
+
+/// One batch of one-shot light samples of the rectangle.
+#[inline(always)]
+pub fn rectangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
+            let smp =
+                SphericalRectangle::sample_once(black_box(s), ex, ey, black_box(o), u, v).unwrap();
+            fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+        })
+}
