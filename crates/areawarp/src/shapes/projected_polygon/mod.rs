@@ -12,7 +12,9 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
+use self::build::{
+    Arc, Built, clip, fit_lune, partition, prepare, solid_angle_of_units, unit_direction,
+};
 use self::geometry::{Frame, Source, arc_distance};
 use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
@@ -24,6 +26,7 @@ use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
+use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
@@ -159,7 +162,9 @@ pub struct ProjectedPolygon<T> {
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
     measure: T,
-    solid_angle: T,
+    /// The solid angle before clipping: set by the constructor where its
+    /// validation needed it, else computed on first use.
+    solid_angle: OnceLock<T>,
     two_pi: T,
 }
 
@@ -327,13 +332,15 @@ impl<T: Real> ProjectedPolygon<T> {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
-            let built_w =
-                clip(&vertices_w, Vec3::clone).and_then(|arcs| partition(arcs, solid_angle_w))?;
+            let built_w = clip(&vertices_w, Vec3::clone).and_then(partition)?;
             narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
         } else {
-            clip(&vertices_w, narrow3::<T>)
-                .and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
+            clip(&vertices_w, narrow3::<T>).and_then(partition)?
         };
+        let solid_angle = OnceLock::new();
+        if let Some(omega) = solid_angle_w {
+            let _ = solid_angle.set(T::narrow(&omega));
+        }
         let Built {
             arcs,
             lunes,
@@ -342,7 +349,6 @@ impl<T: Real> ProjectedPolygon<T> {
             ranges,
             active,
             measure,
-            solid_angle,
         } = built;
         Ok(ProjectedPolygon {
             source,
@@ -387,9 +393,26 @@ impl<T: Real> ProjectedPolygon<T> {
         self.measure.clone()
     }
 
-    /// The solid angle of the polygon, before clipping against the horizon.
+    /// The solid angle of the polygon, before clipping against the horizon
+    /// (computed on the first call unless the constructor needed it).
     pub fn solid_angle(&self) -> T {
-        self.solid_angle.clone()
+        self.solid_angle
+            .get_or_init(|| {
+                // The constructor's unit vertices, in the input order and
+                // the wide type, as `prepare` computed them.
+                let local: Vec<Vec3<T>> = match &self.source {
+                    Source::Directions(v) => v.clone(),
+                    Source::Points {
+                        points, observer, ..
+                    } => points.iter().map(|p| self.local(&p.sub(observer))).collect(),
+                };
+                let units: Vec<Vec3<T::Wide>> = local
+                    .iter()
+                    .map(|p| unit_direction(&widen3(p), "polygon vertex").expect("accepted"))
+                    .collect();
+                T::narrow(&solid_angle_of_units(&units))
+            })
+            .clone()
     }
 
     /// The number of lunes of positive projected area (the azimuth

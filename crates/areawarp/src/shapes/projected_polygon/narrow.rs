@@ -153,6 +153,5 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         ranges,
         active,
         measure,
-        solid_angle: n::<T>(&w.solid_angle),
     })
 }
