@@ -761,7 +761,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
             end: pairs.len(),
             n_edges,
             active: None,
-            fit: std::sync::OnceLock::new(),
         };
         if n_edges > 0 {
             // From the start only: the end's sum (the same area) is

@@ -161,6 +161,11 @@ pub struct ProjectedPolygon<T> {
     ranges: Vec<EdgeRange<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
+    /// The fitted inverse marginal of each active lune from its start and
+    /// its end, computed on first use ([`ProjectedPolygon::fit`]); beside
+    /// the lunes, not in them, so that building the lunes moves small
+    /// structs.
+    fits: Vec<OnceLock<[SideFit<T>; 2]>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
@@ -359,6 +364,7 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             ranges,
+            fits: active.iter().map(|_| OnceLock::new()).collect(),
             active,
             measure,
             solid_angle,
@@ -464,8 +470,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// sampler for a few samples pays only for the lunes it visits.
     fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
         let lune = &self.lunes[self.active[k]];
-        lune.fit
-            .get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
+        self.fits[k].get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {

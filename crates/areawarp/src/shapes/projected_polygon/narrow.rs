@@ -122,7 +122,6 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
                 end: l.end,
                 n_edges: l.n_edges,
                 active: None,
-                fit: OnceLock::new(),
             }
         })
         .collect();
