@@ -410,7 +410,10 @@ impl<T: Real> ProjectedPolygon<T> {
                     Source::Directions(v) => v.clone(),
                     Source::Points {
                         points, observer, ..
-                    } => points.iter().map(|p| self.local(&p.sub(observer))).collect(),
+                    } => points
+                        .iter()
+                        .map(|p| self.local(&p.sub(observer)))
+                        .collect(),
                 };
                 let units: Vec<Vec3<T::Wide>> = local
                     .iter()

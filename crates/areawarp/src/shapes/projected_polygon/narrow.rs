@@ -127,7 +127,9 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         .collect();
     // The cumulative areas and the active lunes again, in T.
     let mut measure = T::zero();
-    let mut active = Vec::new();
+    // The wide vector of active lunes, reused.
+    let mut active = w.active;
+    active.clear();
     for (k, lune) in lunes.iter_mut().enumerate() {
         lune.cum_start = measure.clone();
         if lune.area > zero {
