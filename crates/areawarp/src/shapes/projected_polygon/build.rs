@@ -1,6 +1,7 @@
 //! Preprocessing: validation and orientation of the polygon, clipping
 //! against the receiver's horizon, and the partition into lunes.
 
+use super::geometry::{scaled_unit, unit_direction};
 use super::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -16,13 +17,13 @@ fn degenerate(what: &'static str) -> WarpError {
 
 /// `(i + 1) mod n` for `i < n`, without a division.
 #[inline]
-fn next(i: usize, n: usize) -> usize {
+pub(super) fn next(i: usize, n: usize) -> usize {
     if i + 1 < n { i + 1 } else { 0 }
 }
 
 /// `(i − 1) mod n` for `i < n`, without a division.
 #[inline]
-fn prev(i: usize, n: usize) -> usize {
+pub(super) fn prev(i: usize, n: usize) -> usize {
     if i > 0 { i - 1 } else { n - 1 }
 }
 
@@ -57,45 +58,6 @@ pub(super) struct Built<T> {
     pub measure: T,
 }
 
-/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is divided by
-/// its largest coordinate first, after which `|v|` is a plain square root
-/// (no overflow or underflow for huge or subnormal input, and none of the
-/// two `hypot` calls of [`Vec3::normalized`]).
-pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let m = v.max_abs();
-    if !(m > T::zero() && m.is_finite()) {
-        return None;
-    }
-    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
-    let n = w.dot(&w).sqrt();
-    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
-}
-
-/// `v / |v|` with the errors a polygon vertex or a receiver normal gets:
-/// `v` is scaled by the reciprocal of its largest coordinate (so that
-/// directions that are positive multiples of each other usually coincide
-/// after normalization, which the coincident-vertex test relies on), then
-/// divided by its length, a plain square root after the scaling.
-pub(super) fn unit_direction<T: Real>(
-    v: &Vec3<T>,
-    what: &'static str,
-) -> Result<Vec3<T>, WarpError> {
-    if !v.is_finite() {
-        return Err(WarpError::NonFinite { what });
-    }
-    let zero = || degenerate("a polygon vertex direction is the zero vector");
-    let m = v.max_abs();
-    if !(m > T::zero()) {
-        return Err(zero());
-    }
-    let w = v.scale(&(T::one() / &m));
-    let n = w.dot(&w).sqrt();
-    if !(n > T::zero() && n.is_finite()) {
-        return Err(zero());
-    }
-    Ok(w.scale(&(T::one() / &n)))
-}
-
 /// Validates the vertices, normalizes them and orients the polygon so that
 /// the smaller of the two regions its boundary bounds lies to the left
 /// (`(v_i × v_{i+1}) · p > 0` inside). Returns the vertices and the solid
@@ -104,7 +66,7 @@ pub(super) fn unit_direction<T: Real>(
 /// turning angles (error ≤ 2·10⁻⁵ per vertex) cannot tell the orientation
 /// or the validity, i.e. within a margin of 0, 2π or 4π;
 /// [`ProjectedPolygon::solid_angle`](super::ProjectedPolygon::solid_angle)
-/// computes it on demand otherwise ([`solid_angle_of_units`]).
+/// computes it on demand otherwise (`geometry::source_solid_angle`).
 /// The vertices come as an iterator (the constructor widens them on the
 /// way, without a copy of its own).
 pub(super) fn prepare<T: Real>(
@@ -173,22 +135,6 @@ pub(super) fn prepare<T: Real>(
     } else {
         Ok((v, Some(omega)))
     }
-}
-
-/// The solid angle of the polygon that [`prepare`] accepted, from its unit
-/// vertices (the smaller region, in `[0, 2π)`): the fan [`prepare`] skips
-/// where the rough sum decides, computed when it is asked for.
-pub(super) fn solid_angle_of_units<T: Real>(v: &[Vec3<T>]) -> T {
-    let n = v.len();
-    let mut turning = 0.0f64;
-    for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
-        turning += rough_angle(&det, &cos_part);
-    }
-    let omega = oriented_solid_angle_with_turning(v, turning);
-    let four_pi = T::pi() * &T::from_i64(4);
-    let other = four_pi - &omega;
-    if omega > other { other } else { omega }
 }
 
 /// The point where the great arc `a → b` crosses the horizon `z = 0`

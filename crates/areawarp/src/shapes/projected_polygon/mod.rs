@@ -12,10 +12,8 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{
-    Arc, Built, clip, fit_lune, partition, prepare, solid_angle_of_units, unit_direction,
-};
-use self::geometry::{Frame, Source, arc_distance};
+use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
+use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
@@ -403,24 +401,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// (computed on the first call unless the constructor needed it).
     pub fn solid_angle(&self) -> T {
         self.solid_angle
-            .get_or_init(|| {
-                // The constructor's unit vertices, in the input order and
-                // the wide type, as `prepare` computed them.
-                let local: Vec<Vec3<T>> = match &self.source {
-                    Source::Directions(v) => v.clone(),
-                    Source::Points {
-                        points, observer, ..
-                    } => points
-                        .iter()
-                        .map(|p| self.local(&p.sub(observer)))
-                        .collect(),
-                };
-                let units: Vec<Vec3<T::Wide>> = local
-                    .iter()
-                    .map(|p| unit_direction(&widen3(p), "polygon vertex").expect("accepted"))
-                    .collect();
-                T::narrow(&solid_angle_of_units(&units))
-            })
+            .get_or_init(|| source_solid_angle(&self.source, self.frame.as_ref()))
             .clone()
     }
 
