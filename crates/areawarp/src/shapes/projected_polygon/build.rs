@@ -1,6 +1,7 @@
 //! Preprocessing: validation and orientation of the polygon, clipping
 //! against the receiver's horizon, and the partition into lunes.
 
+use super::geometry::{scaled_unit, unit_direction};
 use super::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -12,6 +13,24 @@ use crate::vector::Vec3;
 
 fn degenerate(what: &'static str) -> WarpError {
     WarpError::Degenerate { what }
+}
+
+/// `(i + 1) mod n` for `i < n`, without a division.
+#[inline]
+pub(super) fn next(i: usize, n: usize) -> usize {
+    if i + 1 < n { i + 1 } else { 0 }
+}
+
+/// `(i − 1) mod n` for `i < n`, without a division.
+#[inline]
+pub(super) fn prev(i: usize, n: usize) -> usize {
+    if i > 0 { i - 1 } else { n - 1 }
+}
+
+/// `(b − a) mod n` for `a, b < n`, without a division.
+#[inline]
+fn steps(a: usize, b: usize, n: usize) -> usize {
+    if b >= a { b - a } else { b + n - a }
 }
 
 /// A directed minor great arc `a → b` of the clipped boundary, with the
@@ -37,57 +56,22 @@ pub(super) struct Built<T> {
     pub ranges: Vec<EdgeRange<T>>,
     pub active: Vec<usize>,
     pub measure: T,
-    pub solid_angle: T,
-}
-
-/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is divided by
-/// its largest coordinate first, after which `|v|` is a plain square root
-/// (no overflow or underflow for huge or subnormal input, and none of the
-/// two `hypot` calls of [`Vec3::normalized`]).
-pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let m = v.max_abs();
-    if !(m > T::zero() && m.is_finite()) {
-        return None;
-    }
-    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
-    let n = w.dot(&w).sqrt();
-    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
-}
-
-/// `v / |v|` with the errors a polygon vertex or a receiver normal gets:
-/// `v` is scaled by the reciprocal of its largest coordinate (so that
-/// directions that are positive multiples of each other usually coincide
-/// after normalization, which the coincident-vertex test relies on), then
-/// divided by its length, a plain square root after the scaling.
-pub(super) fn unit_direction<T: Real>(
-    v: &Vec3<T>,
-    what: &'static str,
-) -> Result<Vec3<T>, WarpError> {
-    if !v.is_finite() {
-        return Err(WarpError::NonFinite { what });
-    }
-    let zero = || degenerate("a polygon vertex direction is the zero vector");
-    let m = v.max_abs();
-    if !(m > T::zero()) {
-        return Err(zero());
-    }
-    let w = v.scale(&(T::one() / &m));
-    let n = w.dot(&w).sqrt();
-    if !(n > T::zero() && n.is_finite()) {
-        return Err(zero());
-    }
-    Ok(w.scale(&(T::one() / &n)))
 }
 
 /// Validates the vertices, normalizes them and orients the polygon so that
 /// the smaller of the two regions its boundary bounds lies to the left
 /// (`(v_i × v_{i+1}) · p > 0` inside). Returns the vertices and the solid
-/// angle of that region.
+/// angle of that region if it was computed: the accurate solid angle (a
+/// fan of `atan2`s) is needed only where the rough Gauss–Bonnet sum of the
+/// turning angles (error ≤ 2·10⁻⁵ per vertex) cannot tell the orientation
+/// or the validity, i.e. within a margin of 0, 2π or 4π;
+/// [`ProjectedPolygon::solid_angle`](super::ProjectedPolygon::solid_angle)
+/// computes it on demand otherwise (`geometry::source_solid_angle`).
 /// The vertices come as an iterator (the constructor widens them on the
 /// way, without a copy of its own).
 pub(super) fn prepare<T: Real>(
     vertices: impl ExactSizeIterator<Item = Vec3<T>>,
-) -> Result<(Vec<Vec3<T>>, T), WarpError> {
+) -> Result<(Vec<Vec3<T>>, Option<T>), WarpError> {
     let n = vertices.len();
     if n < 3 {
         return Err(degenerate("a polygon needs at least 3 vertices"));
@@ -97,7 +81,7 @@ pub(super) fn prepare<T: Real>(
         v.push(unit_direction(&p, "polygon vertex")?);
     }
     for i in 0..n {
-        let (a, b) = (&v[i], &v[(i + 1) % n]);
+        let (a, b) = (&v[i], &v[next(i, n)]);
         if a.cross(b).max_abs() == T::zero() {
             return Err(if a.dot(b) > T::zero() {
                 degenerate("coincident consecutive vertices")
@@ -113,13 +97,25 @@ pub(super) fn prepare<T: Real>(
     let fold = T::from_i64(64) * &u;
     let mut turning = 0.0f64;
     for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[(i + n - 1) % n], &v[i], &v[(i + 1) % n]);
+        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
         if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
             return Err(degenerate(
                 "the polygon folds straight back on itself at a vertex",
             ));
         }
         turning += rough_angle(&det, &cos_part);
+    }
+    // The rough solid angle 2π − Σ τ is off by at most 2·10⁻⁵ per vertex;
+    // 10⁻⁴ per vertex leaves it a margin of 5.
+    let rough = 2.0 * core::f64::consts::PI - turning;
+    let margin = 1e-4 * n as f64;
+    let tau = 2.0 * core::f64::consts::PI;
+    if rough > margin && rough < tau - margin {
+        return Ok((v, None));
+    }
+    if rough > tau + margin && rough < 2.0 * tau - margin {
+        v.reverse();
+        return Ok((v, None));
     }
     let two_pi = T::pi() * &T::from_i64(2);
     let four_pi = two_pi.clone() * &T::from_i64(2);
@@ -135,9 +131,9 @@ pub(super) fn prepare<T: Real>(
     }
     if omega > two_pi {
         v.reverse();
-        Ok((v, four_pi - &omega))
+        Ok((v, Some(four_pi - &omega)))
     } else {
-        Ok((v, omega))
+        Ok((v, Some(omega)))
     }
 }
 
@@ -183,7 +179,7 @@ pub(super) fn clip<W, T: Real>(
     let mut b = conv(&v[0]);
     for i in 0..n {
         let a = b;
-        b = conv(&v[(i + 1) % n]);
+        b = conv(&v[next(i, n)]);
         let (a, b) = (&a, &b);
         let normal = match scaled_unit(&edge_normal(a, b)) {
             Some(m) => m,
@@ -322,6 +318,9 @@ struct UsableArc<'a, T> {
     ends: (usize, usize),
     /// Its range of r² and z² ([`arc_range`]).
     whole: EdgeRange<T>,
+    /// The lunes it crosses: `count` lunes from number `first` on,
+    /// cyclically (`(first, count)`; count 0 for none).
+    span: (usize, usize),
 }
 
 /// The azimuth of the point `p` (off the pole) and its (cos, sin), the
@@ -349,7 +348,7 @@ fn at_pole<T: Real>(p: &Vec3<T>) -> bool {
 /// Partitions the clipped polygon into lunes, computes the per-edge
 /// constants, sorts each lune's edges outwards from the pole, checks the
 /// structure, and fits each lune's marginal.
-pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Built<T>, WarpError> {
+pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpError> {
     let zero = T::zero();
     let u = T::unit_roundoff();
     let two_pi = T::pi() * &T::from_i64(2);
@@ -371,11 +370,12 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             cs: [(T::zero(), T::zero()), cs_b],
             ends: (0, 0),
             whole: arc_range(a),
+            span: (0, 0),
         });
     }
     let nu = usable.len();
     for i in 0..nu {
-        let prev = (i + nu - 1) % nu;
+        let prev = prev(i, nu);
         let (az_a, cs_a) = if usable[prev].arc.b == usable[i].arc.a {
             (usable[prev].az.1.clone(), usable[prev].cs[1].clone())
         } else {
@@ -436,9 +436,10 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         }
     };
     let slack = T::exp2i(-((T::precision() / 2) as i32));
-    // (lune, arc) for every arc crossing a lune, grouped by lune below.
-    let mut members: Vec<(usize, usize)> = Vec::with_capacity(2 * nu);
-    for (ai, ua) in usable.iter().enumerate() {
+    // The lunes each arc crosses (no list of (lune, arc) pairs to sort:
+    // each lune takes its arcs in boundary order from the spans).
+    let mut crossings = 0;
+    for ua in usable.iter_mut() {
         let (ia, ib) = ua.ends;
         if ia == ib {
             continue;
@@ -449,7 +450,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         let mut k = first;
         while k != last {
             sweep += &width(k);
-            k = (k + 1) % m;
+            k = next(k, m);
         }
         if sweep > T::pi() + &slack {
             if a.n.z.abs() <= slack {
@@ -460,11 +461,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 "an edge sweeps more than half a turn of azimuth",
             ));
         }
-        let mut k = first;
-        while k != last {
-            members.push((k, ai));
-            k = (k + 1) % m;
-        }
+        let count = steps(first, last, m);
+        ua.span = (first, count);
+        crossings += count;
     }
 
     let half = T::from_ratio(1, 2);
@@ -478,9 +477,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
     // Do arcs `i` and `j` share an endpoint on meridian number `k`?
     let share_at = |i: usize, j: usize, k: usize| -> bool {
         let (p, q, ends) = (usable[i].arc, usable[j].arc, usable[i].ends);
-        [(&p.a, ends.0), (&p.b, ends.1)]
-            .iter()
-            .any(|(e, ke)| (**e == q.a || **e == q.b) && *ke == k)
+        (ends.0 == k && (p.a == q.a || p.a == q.b)) || (ends.1 == k && (p.b == q.a || p.b == q.b))
     };
     // The arc's range in lune k: its own ends where it ends on the lune's
     // meridians.
@@ -498,33 +495,47 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             };
             Some(EdgeRange::point([&p.x, &p.y, &p.z]))
         };
-        e.range([at(k), at((k + 1) % m)], whole)
+        e.range([at(k), at(next(k, m))], whole)
     };
-    // Stable: each lune's arcs stay in boundary order.
-    members.sort_by_key(|&(k, _)| k);
     let mut lunes = Vec::with_capacity(m);
-    let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(members.len());
-    let mut pairs: Vec<Pair<T>> = Vec::with_capacity(members.len());
-    let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(members.len());
+    let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(crossings);
+    let mut pairs: Vec<Pair<T>> = Vec::with_capacity(crossings);
+    let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(crossings);
     let mut magnitude = T::zero();
-    let mut lune_edges: Vec<(usize, LuneEdge<T>)> = Vec::with_capacity(nu);
-    let mut next_member = 0;
+    // The arc of each of the current lune's edges (on the stack for up to
+    // 16 arcs).
+    let mut arc_stack = [0usize; 16];
+    let mut arc_heap = Vec::new();
+    let arc_of: &mut [usize] = if nu <= arc_stack.len() {
+        &mut arc_stack
+    } else {
+        arc_heap.resize(nu, 0);
+        &mut arc_heap
+    };
     for (k, (start, cos_a, sin_a)) in bounds.iter().enumerate() {
         let (start, cos_a, sin_a) = (start.clone(), cos_a.clone(), sin_a.clone());
         let end_az = end_of(k);
         let w = width(k);
         // The last lune ends one turn after the first meridian.
-        let (_, cos_b, sin_b) = bounds[(k + 1) % m].clone();
-        lune_edges.clear();
-        while next_member < members.len() && members[next_member].0 == k {
-            let ai = members[next_member].1;
-            let n = &usable[ai].arc.n;
-            lune_edges.push((
-                ai,
-                LuneEdge::new([&n.x, &n.y, &n.z], (&cos_a, &sin_a), (&cos_b, &sin_b)),
-            ));
-            next_member += 1;
+        let (_, cos_b, sin_b) = bounds[next(k, m)].clone();
+        // The lune's edges, in boundary order, written in place.
+        let first_edge = edges.len();
+        let mut ne = 0;
+        for (ai, ua) in usable.iter().enumerate() {
+            let (f, count) = ua.span;
+            if steps(f, k, m) < count {
+                let n = &ua.arc.n;
+                arc_of[ne] = ai;
+                ne += 1;
+                edges.push(LuneEdge::new(
+                    [&n.x, &n.y, &n.z],
+                    (&cos_a, &sin_a),
+                    (&cos_b, &sin_b),
+                ));
+            }
         }
+        let arc_of = &mut arc_of[..ne];
+        let lune_edges = &mut edges[first_edge..];
         // (sin Δ, cos Δ): the area below, and the middle meridian by the
         // half-angle formulas (each from the side without cancellation).
         let (s1, c1) = if lune_edges.is_empty() {
@@ -557,11 +568,12 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         // rounds to 1 (a comparison of r² would tie).
         // D at the middle meridian, and (if `bound`) a bound on its
         // rounding error (else 0).
+        // (Edges come as (arc index, edge).)
         let separation =
-            |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>), bound: bool| -> (T, T) {
+            |p: (usize, &LuneEdge<T>), q: (usize, &LuneEdge<T>), bound: bool| -> (T, T) {
                 let (si, a_zero) = if share_at(p.0, q.0, k) {
                     (0, true)
-                } else if share_at(p.0, q.0, (k + 1) % m) {
+                } else if share_at(p.0, q.0, next(k, m)) {
                     (1, true)
                 } else {
                     (0, false)
@@ -582,7 +594,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
                 }
                 (d, err * &T::from_i64(8) * &u)
             };
-        let nearer_pole = |p: &(usize, LuneEdge<T>), q: &(usize, LuneEdge<T>)| -> bool {
+        let nearer_pole = |p: (usize, &LuneEdge<T>), q: (usize, &LuneEdge<T>)| -> bool {
             let d = separation(p, q, false).0;
             let flip = (p.1.nz < zero) != (q.1.nz < zero);
             if flip { d < zero } else { d > zero }
@@ -591,16 +603,22 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         // allocation, and no total order demanded of a rounded comparison).
         for i in 1..lune_edges.len() {
             let mut j = i;
-            while j > 0 && nearer_pole(&lune_edges[j], &lune_edges[j - 1]) {
+            while j > 0
+                && nearer_pole(
+                    (arc_of[j], &lune_edges[j]),
+                    (arc_of[j - 1], &lune_edges[j - 1]),
+                )
+            {
                 lune_edges.swap(j, j - 1);
+                arc_of.swap(j, j - 1);
                 j -= 1;
             }
         }
         for side in [Side::Start, Side::End] {
             for pair in lune_edges.windows(2) {
                 let (r0, r1) = (
-                    r2_at(&pair[0].1, side, &T::one(), &zero),
-                    r2_at(&pair[1].1, side, &T::one(), &zero),
+                    r2_at(&pair[0], side, &T::one(), &zero),
+                    r2_at(&pair[1], side, &T::one(), &zero),
                 );
                 if r1 < r0 - &slack {
                     return Err(degenerate("self-intersecting polygon (edges cross)"));
@@ -608,7 +626,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             }
         }
         // Boundaries alternate inner/outer and the outermost is outer.
-        let is_outer = |e: &(usize, LuneEdge<T>)| e.1.nz > zero;
+        let is_outer = |e: &LuneEdge<T>| e.nz > zero;
         if let Some(last) = lune_edges.last()
             && (!is_outer(last)
                 || lune_edges
@@ -618,8 +636,12 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             // Two edges whose order on the meridian is within rounding
             // (a polygon narrower than the rounding of its vertices, whose
             // interior is not resolved): no projected area, not a crossing.
-            if lune_edges.windows(2).any(|p| {
-                let (d, err) = separation(&p[0], &p[1], true);
+            if (1..lune_edges.len()).any(|j| {
+                let (d, err) = separation(
+                    (arc_of[j - 1], &lune_edges[j - 1]),
+                    (arc_of[j], &lune_edges[j]),
+                    true,
+                );
                 d.abs() <= err
             }) {
                 return Err(degenerate(
@@ -631,7 +653,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             ));
         }
         let pole_inside = lune_edges.first().is_some_and(is_outer);
-        let first_edge = edges.len();
         let first_pair = pairs.len();
         let mut j = 0;
         while j < lune_edges.len() {
@@ -640,19 +661,19 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             } else {
                 (Some(j), j + 1)
             };
-            let o = &lune_edges[outer_j].1;
+            let o = &lune_edges[outer_j];
             let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
             let mut shared = [false, false];
             let mut r0 = [zero.clone(), zero.clone()];
-            let outer_range = range_in(lune_edges[outer_j].0, o, k);
-            let inner_range = inner.map(|i| range_in(lune_edges[i].0, &lune_edges[i].1, k));
+            let outer_range = range_in(arc_of[outer_j], o, k);
+            let inner_range = inner.map(|i| range_in(arc_of[i], &lune_edges[i], k));
             if let Some(i) = inner {
-                let e = &lune_edges[i].1;
-                for (si, meridian) in [(0usize, k), (1, (k + 1) % m)] {
+                let e = &lune_edges[i];
+                for (si, meridian) in [(0usize, k), (1, next(k, m))] {
                     let (os, es) = (&o.side[si], &e.side[si]);
                     let a = o.nz.clone() * &es.g0 - &(e.nz.clone() * &os.g0);
                     let b = o.nz.clone() * &es.k0 - &(e.nz.clone() * &os.k0);
-                    shared[si] = share_at(lune_edges[i].0, lune_edges[outer_j].0, meridian);
+                    shared[si] = share_at(arc_of[i], arc_of[outer_j], meridian);
                     d[si] = (if shared[si] { zero.clone() } else { a }, b);
                     if shared[si] {
                         // r at the shared vertex (on the side's meridian).
@@ -671,7 +692,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
-        edges.extend(lune_edges.drain(..).map(|e| e.1));
         let mut lune = Lune {
             start,
             end_az,
@@ -687,7 +707,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
             end: pairs.len(),
             n_edges,
             active: None,
-            fit: std::sync::OnceLock::new(),
         };
         if n_edges > 0 {
             // From the start only: the end's sum (the same area) is
@@ -732,7 +751,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>, solid_angle: T) -> Result<Bu
         ranges,
         active,
         measure,
-        solid_angle,
     })
 }
 

@@ -1,8 +1,15 @@
 //! Geometry the polygon's map needs beside the lunes: its input, the
-//! receiver's frame and the distance from a direction to a boundary arc.
+//! receiver's frame, the distance from a direction to a boundary arc, the
+//! unit vectors of vertices and normals, and the solid angle computed on
+//! demand.
 
-use super::build::Arc;
+use super::build::{Arc, next, prev};
+use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::polygon_measures::{
+    oriented_solid_angle_with_turning, rough_angle, turning_parts,
+};
+use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 
 /// Where the polygon came from, kept to rebuild it at another precision.
@@ -65,4 +72,85 @@ pub(super) fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {
         }
         _ => ends,
     }
+}
+
+/// `v / |v|`, or `None` for a zero or non-finite vector: `v` is divided by
+/// its largest coordinate first, after which `|v|` is a plain square root
+/// (no overflow or underflow for huge or subnormal input, and none of the
+/// two `hypot` calls of [`Vec3::normalized`]).
+pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
+    let m = v.max_abs();
+    if !(m > T::zero() && m.is_finite()) {
+        return None;
+    }
+    let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
+    let n = w.dot(&w).sqrt();
+    Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
+}
+
+/// `v / |v|` with the errors a polygon vertex or a receiver normal gets:
+/// `v` is scaled by the reciprocal of its largest coordinate (so that
+/// directions that are positive multiples of each other usually coincide
+/// after normalization, which the coincident-vertex test relies on), then
+/// divided by its length, a plain square root after the scaling.
+pub(super) fn unit_direction<T: Real>(
+    v: &Vec3<T>,
+    what: &'static str,
+) -> Result<Vec3<T>, WarpError> {
+    if !v.is_finite() {
+        return Err(WarpError::NonFinite { what });
+    }
+    let zero = || WarpError::Degenerate {
+        what: "a polygon vertex direction is the zero vector",
+    };
+    let m = v.max_abs();
+    if !(m > T::zero()) {
+        return Err(zero());
+    }
+    let w = v.scale(&(T::one() / &m));
+    let n = w.dot(&w).sqrt();
+    if !(n > T::zero() && n.is_finite()) {
+        return Err(zero());
+    }
+    Ok(w.scale(&(T::one() / &n)))
+}
+
+/// The solid angle of the polygon that `prepare` accepted, from its unit
+/// vertices (the smaller region, in `[0, 2π)`): the fan `prepare` skips
+/// where the rough sum decides, computed when it is asked for.
+fn solid_angle_of_units<T: Real>(v: &[Vec3<T>]) -> T {
+    let n = v.len();
+    let mut turning = 0.0f64;
+    for i in 0..n {
+        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
+        turning += rough_angle(&det, &cos_part);
+    }
+    let omega = oriented_solid_angle_with_turning(v, turning);
+    let four_pi = T::pi() * &T::from_i64(4);
+    let other = four_pi - &omega;
+    if omega > other { other } else { omega }
+}
+
+/// The solid angle of the polygon given by `source` (seen in the receiver's
+/// `frame` for points), from the unit vertices in the wide type and in the
+/// input order, as `prepare` computes them: the same bits as the
+/// constructor's value where it needed one.
+pub(super) fn source_solid_angle<T: Real>(source: &Source<T>, frame: Option<&Frame<T>>) -> T {
+    let local: Vec<Vec3<T>> = match (source, frame) {
+        (
+            Source::Points {
+                points, observer, ..
+            },
+            Some(f),
+        ) => points
+            .iter()
+            .map(|p| f.to_local(&p.sub(observer)))
+            .collect(),
+        (Source::Points { points, .. }, None) | (Source::Directions(points), _) => points.clone(),
+    };
+    let units: Vec<Vec3<T::Wide>> = local
+        .iter()
+        .map(|p| unit_direction(&widen3(p), "polygon vertex").expect("accepted vertices"))
+        .collect();
+    T::narrow(&solid_angle_of_units(&units))
 }

@@ -272,9 +272,6 @@ pub(super) struct Lune<T> {
     pub n_edges: usize,
     /// Index among the lunes of positive area (those that are sampled).
     pub active: Option<usize>,
-    /// The fitted inverse marginal from the start and the end (active lunes;
-    /// computed on first use, see `ProjectedPolygon::fit`).
-    pub fit: OnceLock<[SideFit<T>; 2]>,
 }
 
 /// The two ends of one interval on a meridian, in r² and z², and its

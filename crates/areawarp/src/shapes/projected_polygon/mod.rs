@@ -12,8 +12,8 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{Arc, Built, clip, fit_lune, partition, prepare, unit_direction};
-use self::geometry::{Frame, Source, arc_distance};
+use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
+use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
@@ -24,6 +24,7 @@ use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
+use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
@@ -158,8 +159,15 @@ pub struct ProjectedPolygon<T> {
     ranges: Vec<EdgeRange<T>>,
     /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
     active: Vec<usize>,
+    /// The fitted inverse marginal of each active lune from its start and
+    /// its end, computed on first use ([`ProjectedPolygon::fit`]); beside
+    /// the lunes, not in them, so that building the lunes moves small
+    /// structs.
+    fits: Vec<OnceLock<[SideFit<T>; 2]>>,
     measure: T,
-    solid_angle: T,
+    /// The solid angle before clipping: set by the constructor where its
+    /// validation needed it, else computed on first use.
+    solid_angle: OnceLock<T>,
     two_pi: T,
 }
 
@@ -327,13 +335,15 @@ impl<T: Real> ProjectedPolygon<T> {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
-            let built_w =
-                clip(&vertices_w, Vec3::clone).and_then(|arcs| partition(arcs, solid_angle_w))?;
+            let built_w = clip(&vertices_w, Vec3::clone).and_then(partition)?;
             narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
         } else {
-            clip(&vertices_w, narrow3::<T>)
-                .and_then(|arcs| partition(arcs, T::narrow(&solid_angle_w)))?
+            clip(&vertices_w, narrow3::<T>).and_then(partition)?
         };
+        let solid_angle = OnceLock::new();
+        if let Some(omega) = solid_angle_w {
+            let _ = solid_angle.set(T::narrow(&omega));
+        }
         let Built {
             arcs,
             lunes,
@@ -342,7 +352,6 @@ impl<T: Real> ProjectedPolygon<T> {
             ranges,
             active,
             measure,
-            solid_angle,
         } = built;
         Ok(ProjectedPolygon {
             source,
@@ -353,6 +362,7 @@ impl<T: Real> ProjectedPolygon<T> {
             edges,
             pairs,
             ranges,
+            fits: active.iter().map(|_| OnceLock::new()).collect(),
             active,
             measure,
             solid_angle,
@@ -387,9 +397,12 @@ impl<T: Real> ProjectedPolygon<T> {
         self.measure.clone()
     }
 
-    /// The solid angle of the polygon, before clipping against the horizon.
+    /// The solid angle of the polygon, before clipping against the horizon
+    /// (computed on the first call unless the constructor needed it).
     pub fn solid_angle(&self) -> T {
-        self.solid_angle.clone()
+        self.solid_angle
+            .get_or_init(|| source_solid_angle(&self.source, self.frame.as_ref()))
+            .clone()
     }
 
     /// The number of lunes of positive projected area (the azimuth
@@ -441,8 +454,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// sampler for a few samples pays only for the lunes it visits.
     fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
         let lune = &self.lunes[self.active[k]];
-        lune.fit
-            .get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
+        self.fits[k].get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {

@@ -122,13 +122,14 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
                 end: l.end,
                 n_edges: l.n_edges,
                 active: None,
-                fit: OnceLock::new(),
             }
         })
         .collect();
     // The cumulative areas and the active lunes again, in T.
     let mut measure = T::zero();
-    let mut active = Vec::new();
+    // The wide vector of active lunes, reused.
+    let mut active = w.active;
+    active.clear();
     for (k, lune) in lunes.iter_mut().enumerate() {
         lune.cum_start = measure.clone();
         if lune.area > zero {
@@ -153,6 +154,5 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         ranges,
         active,
         measure,
-        solid_angle: n::<T>(&w.solid_angle),
     })
 }

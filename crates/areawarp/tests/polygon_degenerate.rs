@@ -1,0 +1,263 @@
+//! Are the polygons that the projected polygon's constructor rejects as
+//! having *coincident vertices* or *zero projected solid angle* really
+//! degenerate? (Issue 10: "rejecting a valid input is a failure".)
+//!
+//! Each `f64` rejection of the fuzz polygons (`support/polygon_cases.rs`)
+//! with one of these reasons is judged on the input values in high
+//! precision: two consecutive vertex directions coincide exactly when their
+//! cross product is the zero vector and their dot product is positive
+//! (1024 bits: exact for `f64` input, also for points minus an observer);
+//! the projected solid angle is Lambert's sum over the polygon clipped to
+//! the receiver's hemisphere, at 256 bits. The counts are printed; nothing
+//! is asserted (a survey).
+//!
+//! `cargo test --release -p areawarp --features mpfr --test polygon_degenerate -- --ignored --nocapture`
+#![cfg(feature = "mpfr")]
+
+use areawarp::real::Mpfr;
+use areawarp::shapes::ProjectedPolygon;
+use areawarp::shapes::polygon_measures::projected_solid_angle;
+use areawarp::{Real, Vec3, WarpError};
+use proptest::test_runner::Config;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+
+#[path = "support/light_cases.rs"]
+mod light_cases;
+use light_cases::{runner, v3};
+
+#[path = "support/polygon_cases.rs"]
+mod polygon_cases;
+use polygon_cases::{PolygonCase, polygon_case};
+
+type X = Mpfr<1024>;
+type P = Mpfr<256>;
+
+/// Vertex directions (world frame, unnormalized) and the receiver normal,
+/// from the `f64` input values, exactly.
+fn directions(case: &PolygonCase) -> (Vec<Vec3<X>>, Vec3<X>) {
+    let raw: Vec<Vec3<X>> = case
+        .vertices
+        .iter()
+        .map(|p| v3::<f64>(p).convert())
+        .collect();
+    match &case.seen_from {
+        None => (raw, Vec3::new(X::zero(), X::zero(), X::one())),
+        Some((o, n)) => {
+            let o: Vec3<X> = v3::<f64>(o).convert();
+            (
+                raw.iter().map(|p| p.sub(&o)).collect(),
+                v3::<f64>(n).convert(),
+            )
+        }
+    }
+}
+
+/// Whether two consecutive directions coincide exactly.
+fn coincident_pair(v: &[Vec3<X>]) -> bool {
+    let k = v.len();
+    (0..k).any(|i| {
+        let (a, b) = (&v[i], &v[(i + 1) % k]);
+        let c = a.cross(b);
+        c.x == X::zero() && c.y == X::zero() && c.z == X::zero() && a.dot(b) > X::zero()
+    })
+}
+
+/// Lambert's projected solid angle of the polygon clipped to `p · n ≥ 0`
+/// (spherical Sutherland–Hodgman: an edge crossing the horizon is cut at
+/// `|a·n| b + |b·n| a`, consecutive horizon points joined by the horizon's
+/// minor arc), absolute value, at 256 bits.
+fn clipped_projected_solid_angle(v: &[Vec3<X>], n: &Vec3<X>) -> P {
+    let out = clipped(v, n);
+    if out.len() < 3 {
+        return P::zero();
+    }
+    projected_solid_angle(&out, &n.convert()).abs()
+}
+
+/// The polygon clipped to `p · n ≥ 0` (see above), at 256 bits.
+fn clipped(v: &[Vec3<X>], n: &Vec3<X>) -> Vec<Vec3<P>> {
+    let k = v.len();
+    let zero = X::zero();
+    let mut out: Vec<Vec3<P>> = Vec::new();
+    for i in 0..k {
+        let (a, b) = (&v[i], &v[(i + 1) % k]);
+        let (sa, sb) = (a.dot(n), b.dot(n));
+        if sa >= zero {
+            out.push(a.convert());
+        }
+        if (sa > zero && sb < zero) || (sa < zero && sb > zero) {
+            let c = b.scale(&sa.abs()).add(&a.scale(&sb.abs()));
+            out.push(c.convert());
+        }
+    }
+    out
+}
+
+/// The unit vector the constructor computes for the `f64` direction `p`
+/// (`unit_direction`: scaled by the reciprocal of its largest coordinate,
+/// then by that of its length), exactly as a 1024-bit vector.
+fn f64_unit(p: &[f64; 3]) -> Vec3<X> {
+    let m = p[0].abs().max(p[1].abs()).max(p[2].abs());
+    let r = 1.0 / m;
+    let w = [p[0] * r, p[1] * r, p[2] * r];
+    let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+    let r = 1.0 / n;
+    v3::<f64>(&[w[0] * r, w[1] * r, w[2] * r]).convert()
+}
+
+/// Σ |n̂_z| |Δφ| over the edges above the horizon (normal `+z`): the size
+/// of the Lambert terms whose sum is the projected solid angle, against
+/// which the constructor's rounding-level test measures it.
+fn lambert_magnitude(v: &[Vec3<X>]) -> f64 {
+    let v = clipped(v, &Vec3::new(X::zero(), X::zero(), X::one()));
+    let k = v.len();
+    let mut m = 0.0;
+    for i in 0..k {
+        let (a, b) = (&v[i], &v[(i + 1) % k]);
+        let c = a.cross(b);
+        let nz = (c.z.clone() / &c.norm()).abs().to_f64();
+        let dphi = (a.x.clone() * &b.y - &(a.y.clone() * &b.x))
+            .atan2(&(a.x.clone() * &b.x + &(a.y.clone() * &b.y)))
+            .abs()
+            .to_f64();
+        m += nz * dphi;
+    }
+    m
+}
+
+#[derive(Default, Debug)]
+struct Tally {
+    tried: usize,
+    /// Rejected as coincident: (count, really coincident).
+    coincident: (usize, usize),
+    /// Rejected as zero projected solid angle: (count, exactly zero
+    /// (below 1e-60), by kind).
+    zero: (usize, usize),
+    zero_kinds: BTreeMap<&'static str, usize>,
+    coincident_kinds: BTreeMap<&'static str, usize>,
+    /// log10 of the exact projected solid angle of the zero-area
+    /// rejections: (least, largest).
+    zero_range: Option<(f64, f64)>,
+    /// log10 of the least angle between consecutive directions of the
+    /// coincident rejections (radians): (least, largest).
+    gap_range: Option<(f64, f64)>,
+    /// Zero-area rejections with a positive exact Π, direction input:
+    /// log10 of Π / (u Σ|n_z||Δφ|), u = 2⁻⁵³: (least, largest).
+    ratio_range: Option<(f64, f64)>,
+    /// The same: log10 of |Π(f64 unit vertices) − Π| / Π, the relative
+    /// change of the exact projected solid angle caused by rounding the
+    /// unit vertices to `f64` alone: (least, largest).
+    rounding_range: Option<(f64, f64)>,
+    /// Of those, how many change by at least 1/64 (the constructor's
+    /// threshold) and by at least 100 %.
+    rounding_changes: (usize, usize, usize),
+    /// Per kind: (judged, rounding changes Π by ≥ 1/64, Π < 64 u Σ|n_z||Δφ|).
+    by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
+    /// Positive exact Π by kind.
+    positive_kinds: BTreeMap<&'static str, usize>,
+    examples: Vec<String>,
+}
+
+fn widen(r: &mut Option<(f64, f64)>, x: f64) {
+    *r = Some(match *r {
+        None => (x, x),
+        Some((lo, hi)) => (lo.min(x), hi.max(x)),
+    });
+}
+
+fn least_gap(v: &[Vec3<X>]) -> f64 {
+    let k = v.len();
+    (0..k)
+        .map(|i| {
+            let (a, b) = (&v[i], &v[(i + 1) % k]);
+            a.cross(b).norm().atan2(&a.dot(b)).to_f64()
+        })
+        .fold(f64::MAX, f64::min)
+}
+
+fn judge(case: &PolygonCase, t: &mut Tally) {
+    t.tried += 1;
+    let vertices: Vec<Vec3<f64>> = case.vertices.iter().map(v3).collect();
+    let built = match &case.seen_from {
+        None => ProjectedPolygon::new(&vertices),
+        Some((o, n)) => ProjectedPolygon::from_points(&vertices, &v3(o), &v3(n)),
+    };
+    let Err(WarpError::Degenerate { what }) = built else {
+        return;
+    };
+    let (v, n) = directions(case);
+    if what.contains("coincident consecutive") {
+        t.coincident.0 += 1;
+        *t.coincident_kinds.entry(case.kind).or_default() += 1;
+        if coincident_pair(&v) {
+            t.coincident.1 += 1;
+        } else {
+            widen(&mut t.gap_range, least_gap(&v).log10());
+            if t.examples.len() < 6 {
+                t.examples.push(format!("coincident: {case:?}"));
+            }
+        }
+    } else if what.contains("zero projected solid angle") {
+        t.zero.0 += 1;
+        *t.zero_kinds.entry(case.kind).or_default() += 1;
+        let pi = clipped_projected_solid_angle(&v, &n);
+        if pi.to_f64() < 1e-60 {
+            t.zero.1 += 1;
+        } else {
+            widen(&mut t.zero_range, pi.to_f64().log10());
+            *t.positive_kinds.entry(case.kind).or_default() += 1;
+            if case.seen_from.is_none() {
+                let mag = lambert_magnitude(&v);
+                widen(
+                    &mut t.ratio_range,
+                    (pi.to_f64() / (mag * f64::EPSILON / 2.0)).log10(),
+                );
+                let units: Vec<Vec3<X>> = case.vertices.iter().map(f64_unit).collect();
+                let rounded = clipped_projected_solid_angle(&units, &n);
+                let change = ((rounded - &pi).abs() / &pi).to_f64();
+                widen(&mut t.rounding_range, change.max(1e-300).log10());
+                t.rounding_changes.0 += 1;
+                let e = t.by_kind.entry(case.kind).or_default();
+                e.0 += 1;
+                if change >= 1.0 / 64.0 {
+                    t.rounding_changes.1 += 1;
+                    e.1 += 1;
+                }
+                if pi.to_f64() < 64.0 * mag * f64::EPSILON / 2.0 {
+                    e.2 += 1;
+                }
+                if change >= 1.0 {
+                    t.rounding_changes.2 += 1;
+                }
+            }
+            if t.examples.len() < 6 {
+                t.examples
+                    .push(format!("zero ({what}), exact {:e}: {case:?}", pi.to_f64()));
+            }
+        }
+    }
+}
+
+fn survey(cases: u32) {
+    let tally = RefCell::new(Tally::default());
+    let mut runner = runner(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    runner
+        .run(&polygon_case(), |case| {
+            judge(&case, &mut tally.borrow_mut());
+            Ok(())
+        })
+        .unwrap();
+    let t = tally.into_inner();
+    println!("\n{t:#?}");
+}
+
+#[test]
+#[ignore = "a survey, 10⁴ polygons"]
+fn polygon_degenerate_survey() {
+    survey(10_000);
+}
