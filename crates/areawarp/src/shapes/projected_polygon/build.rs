@@ -740,7 +740,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     }
     if !(measure > T::from_i64(64) * &u * &magnitude) || !measure.is_finite() {
         return Err(degenerate(
-            "zero projected solid angle (the polygon lies on or below the horizon)",
+            "projected solid angle not resolved at this precision: below 64 units of \
+             roundoff of its Lambert sum (a polygon on or below the horizon, or a needle or \
+             sliver too thin for the type's unit vectors)",
         ));
     }
     Ok(Built {
