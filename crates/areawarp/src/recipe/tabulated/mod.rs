@@ -237,29 +237,34 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
 /// smooth. m = 2 (a pole of φ, F⁻¹ ~ √u) is left to the geometric
 /// refinement, which meets every tolerance the type allows.
 ///
-/// Estimated from the local exponents m(s) = log₂(F(s)/F(s/2)) at s₁ =
-/// F⁻¹(2^(−p)) and s₁/2, extrapolated (m(s) = m + O(s²) for an analytic
-/// σw·s^(1−m)): an error δ in m leaves F⁻¹ ~ w^(1+δ) in w, which costs the
-/// fit nothing visible for the δ ~ s₁⁴ this leaves. A density that is not a
-/// power law at 0 (the two local exponents differ by more than 1/64 of
-/// themselves) keeps the plain fit.
+/// Estimated from the density F' ∝ Z(s) = ∫σw dt (the t-quadrature,
+/// relatively accurate at any s, unlike F near 0): local exponents
+/// m(s) = 1 + log₂(Z(s)/Z(s/2)) at s = 2⁻ʲ, j = 3 … min(p/2, 40) while
+/// Z(s/2) stays a normal number, the last two extrapolated (m(s) = m +
+/// O(s²) for an analytic Z·s^(1−m)). An error δ in m leaves F⁻¹ ~
+/// w^(1+δ) in w, which the fit does not see for the δ ~ s⁴ this leaves. A
+/// density that is not a power law at 0 (the last two local exponents
+/// differ by more than 1/64 of m) keeps the plain fit.
 fn left_exponent<T: Real, P: WarpDefinition<T>>(recipe: &DerivedRecipe<T, P>) -> Option<T> {
-    let s1 = recipe.marginal_inverse_of(&T::exp2i(-(T::precision() as i32)));
     let two = T::from_i64(2);
-    let (s2, s4) = (s1.clone() / &two, s1.clone() / &T::from_i64(4));
-    let (f1, f2, f4) = (
-        recipe.marginal_cdf_of(&s1),
-        recipe.marginal_cdf_of(&s2),
-        recipe.marginal_cdf_of(&s4),
-    );
-    if !(f4 > T::zero() && f2 > f4 && f1 > f2) {
-        return None;
-    }
     let ln2 = two.ln();
-    let m1 = (f1 / &f2).ln() / &ln2;
-    let m2 = (f2 / &f4).ln() / &ln2;
-    let m = (m2.clone() * &T::from_i64(4) - &m1) / &T::from_i64(3);
-    let power_law = (m1 - &m2).abs() * &T::from_i64(64) <= m2;
+    let floor = T::exp2i(T::precision() as i32) / &T::max_value();
+    let last = (T::precision() as i32 / 2).min(40);
+    let mut z = recipe.normalizer(&T::exp2i(-3));
+    let mut exponents: Vec<T> = Vec::new();
+    for j in 3..last {
+        let z_half = recipe.normalizer(&T::exp2i(-(j + 1)));
+        if !(z_half >= floor && z > z_half) {
+            break;
+        }
+        exponents.push(T::one() + &((z.clone() / &z_half).ln() / &ln2));
+        z = z_half;
+    }
+    let [.., m1, m2] = exponents.as_slice() else {
+        return None;
+    };
+    let m = (m2.clone() * &T::from_i64(4) - m1) / &T::from_i64(3);
+    let power_law = (m1.clone() - m2).abs() * &T::from_i64(64) <= m;
     (power_law && m.is_finite() && m > T::from_ratio(17, 8)).then_some(m)
 }
 
