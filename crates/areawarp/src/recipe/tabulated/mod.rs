@@ -6,7 +6,10 @@
 //!   Chebyshev points of the second kind (ends included, so the table is
 //!   continuous and exact at u = 0 and 1) on panels bisected until the error
 //!   at the points between the nodes is below tolerance/4. Near an end where
-//!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically. A single
+//!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically; where it
+//!   behaves like u^(1/m) with m > 17/8 (σw ~ s^(m−1), a Phong lobe seen
+//!   from the horizon), the first panel is fitted in w = u^(1/m) instead
+//!   (see `left_exponent` and docs/recipe-quadrature.md §5). A single
 //!   panel of degree 3 is the Vandermonde cubic of
 //!   [`VandermondeCubic`](super::VandermondeCubic).
 //! * G⁻¹(s, v): G_s depends on s, so the table is two-dimensional:
