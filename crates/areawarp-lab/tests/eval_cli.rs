@@ -679,25 +679,7 @@ fn derived_and_tabulated_variants_through_the_cli() {
                  sphere 0.999999 0.25\n";
     let (closed, ok) = run_eval(&["--variant", "closed"], lines);
     assert!(ok, "{closed}");
-    // Open: the Phong table (pole of F⁻¹ at u = 1) does not converge at
-    // 1e-9 ("did not converge ... at the narrowest panel"); it is left out
-    // of the tabulated run.
-    let without_phong: String = lines
-        .lines()
-        .filter(|l| !l.starts_with("phong"))
-        .map(|l| format!("{l}\n"))
-        .collect();
-    let closed_without_phong: String = closed
-        .lines()
-        .filter(|l| !l.starts_with("phong"))
-        .map(|l| format!("{l}\n"))
-        .collect();
     for (variant, bound) in [("derived", 1e-14), ("tabulated:1e-9", 8e-9)] {
-        let (lines, closed) = if variant == "derived" {
-            (lines, closed.as_str())
-        } else {
-            (without_phong.as_str(), closed_without_phong.as_str())
-        };
         let (out, ok) = run_eval(&["--variant", variant], lines);
         assert!(ok, "{out}");
         assert_eq!(out.lines().count(), lines.lines().count(), "{out}");

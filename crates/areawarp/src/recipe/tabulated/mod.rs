@@ -6,7 +6,10 @@
 //!   Chebyshev points of the second kind (ends included, so the table is
 //!   continuous and exact at u = 0 and 1) on panels bisected until the error
 //!   at the points between the nodes is below tolerance/4. Near an end where
-//!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically. A single
+//!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically; where it
+//!   behaves like u^(1/m) with m > 17/8 (σw ~ s^(m−1), a Phong lobe seen
+//!   from the horizon), the first panel is fitted in w = u^(1/m) instead
+//!   (see `left_exponent` and docs/recipe-quadrature.md §5). A single
 //!   panel of degree 3 is the Vandermonde cubic of
 //!   [`VandermondeCubic`](super::VandermondeCubic).
 //! * G⁻¹(s, v): G_s depends on s, so the table is two-dimensional:
@@ -32,7 +35,7 @@ use table1::Table1;
 use table2::Table2;
 
 use super::invert::{Bisection, Cdf1, Inverter};
-use super::{DerivedWarp, WarpDefinition};
+use super::{DerivedRecipe, DerivedWarp, WarpDefinition};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
@@ -134,8 +137,9 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
         let marginal = if def.marginal_inverse_closed(&half).is_some() {
             None
         } else {
+            let power = left_exponent(recipe);
             let mut f = |u: &T| recipe.marginal_inverse_of(u);
-            let (table, stats) = Table1::fit(&mut f, degree, &tol, &min_width)?;
+            let (table, stats) = Table1::fit(&mut f, degree, &tol, &min_width, power.as_ref())?;
             report.marginal_panels = stats.panels;
             report.evaluations += stats.evaluations;
             report.estimated_error = stats.estimated_error;
@@ -226,6 +230,45 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
         };
         Some([u, v])
     }
+}
+
+/// The exponent m of F(s) ~ C·s^m at s = 0 (F⁻¹(u) ~ (u/C)^(1/m)), if F
+/// follows a power law there with m > 17/8: then no polynomial in u meets a
+/// tolerance near u = 0 on panels of any representable width (Phong of
+/// exponent k seen from the horizon: m = k + 1, F⁻¹ ~ u^(1/11) for k = 10),
+/// and the first panel is fitted in w = u^(1/m) instead, where F⁻¹ is
+/// smooth. m = 2 (a pole of φ, F⁻¹ ~ √u) is left to the geometric
+/// refinement, which meets every tolerance the type allows.
+///
+/// Estimated from the density F' ∝ Z(s) = ∫σw dt (the t-quadrature,
+/// relatively accurate at any s, unlike F near 0): local exponents
+/// m(s) = 1 + log₂(Z(s)/Z(s/2)) at s = 2⁻ʲ, j = 3 … min(p/2, 40) while
+/// Z(s/2) stays a normal number, the last two extrapolated (m(s) = m +
+/// O(s²) for an analytic Z·s^(1−m)). An error δ in m leaves F⁻¹ ~
+/// w^(1+δ) in w, which the fit does not see for the δ ~ s⁴ this leaves. A
+/// density that is not a power law at 0 (the last two local exponents
+/// differ by more than 1/64 of m) keeps the plain fit.
+fn left_exponent<T: Real, P: WarpDefinition<T>>(recipe: &DerivedRecipe<T, P>) -> Option<T> {
+    let two = T::from_i64(2);
+    let ln2 = two.ln();
+    let floor = T::exp2i(T::precision() as i32) / &T::max_value();
+    let last = (T::precision() as i32 / 2).min(40);
+    let mut z = recipe.normalizer(&T::exp2i(-3));
+    let mut exponents: Vec<T> = Vec::new();
+    for j in 3..last {
+        let z_half = recipe.normalizer(&T::exp2i(-(j + 1)));
+        if !(z_half >= floor && z > z_half) {
+            break;
+        }
+        exponents.push(T::one() + &((z.clone() / &z_half).ln() / &ln2));
+        z = z_half;
+    }
+    let [.., m1, m2] = exponents.as_slice() else {
+        return None;
+    };
+    let m = (m2.clone() * &T::from_i64(4) - m1) / &T::from_i64(3);
+    let power_law = (m1.clone() - m2).abs() * &T::from_i64(64) <= m;
+    (power_law && m.is_finite() && m > T::from_ratio(17, 8)).then_some(m)
 }
 
 /// A closed marginal inverse u ↦ s as an increasing function, so that

@@ -1,5 +1,6 @@
 //! A monotone function [0, 1] → [0, 1] (the inverse marginal F⁻¹) as
-//! polynomials of a fixed degree on adaptively bisected panels.
+//! polynomials of a fixed degree on adaptively bisected panels; the first
+//! panel optionally in w = u^(1/m), where F⁻¹ ~ c·u^(1/m) at u = 0.
 
 use super::poly::{Basis, horner, interpolate_distinct};
 use crate::error::WarpError;
@@ -13,7 +14,7 @@ pub(crate) struct Table1<T> {
     degree: usize,
     /// Panel ends in u (len P + 1).
     breaks: Vec<T>,
-    /// 1 / width per panel.
+    /// 1 / width per panel, in the panel's variable (u, or w on a power panel).
     inv_width: Vec<T>,
     /// The exact function at the breaks (len P + 1): the range of each
     /// panel, to which its polynomial is clamped.
@@ -22,6 +23,18 @@ pub(crate) struct Table1<T> {
     mono: Vec<T>,
     /// guide\[c\] = the panel containing c/G, for c = 0 … G.
     guide: Vec<usize>,
+    /// The first panel's variable w = u^(1/m), if F⁻¹ is fitted in it there.
+    power: Option<Power<T>>,
+}
+
+/// The variable of the first panel \[0, b\]: w = u^(1/m) ∈ \[0, b^(1/m)\],
+/// in which F⁻¹(u) = h(w) is smooth when F(s) ~ C·s^m at s = 0.
+#[derive(Clone, Debug)]
+struct Power<T> {
+    m: T,
+    inv_m: T,
+    /// b^(1/m), the first panel's end in w.
+    w_end: T,
 }
 
 /// What fitting a table reports.
@@ -37,11 +50,14 @@ pub(crate) struct FitStats {
 impl<T: Real> Table1<T> {
     /// Fits `f` (monotone, [0,1] → [0,1]) to absolute error `tol`/4 at the
     /// check points of every panel, bisecting down to width `min_width`.
+    /// With `power` = m, the panel starting at u = 0 is fitted in w =
+    /// u^(1/m) (see [`Power`]).
     pub fn fit(
         f: &mut dyn FnMut(&T) -> T,
         degree: usize,
         tol: &T,
         min_width: &T,
+        power: Option<&T>,
     ) -> Result<(Self, FitStats), WarpError> {
         let basis = Basis::<T>::new(degree);
         let target = tol.clone() / &T::from_i64(4);
@@ -53,28 +69,55 @@ impl<T: Real> Table1<T> {
         let mut worst = T::zero();
         let mut stack = vec![(T::zero(), T::one())];
         let two = T::from_i64(2);
+        let mut first: Option<Power<T>> = None;
         while let Some((a, b)) = stack.pop() {
-            let half = (b.clone() - &a) / &two;
+            // The panel's variable x: u, or w = u^(1/m) on [0, b].
+            let pw = power.filter(|_| a == T::zero()).map(|m| Power {
+                m: m.clone(),
+                inv_m: T::one() / m,
+                w_end: b.powf(&(T::one() / m)),
+            });
+            let var = |u: &T| -> T {
+                match &pw {
+                    Some(p) => u.powf(&p.inv_m),
+                    None => u.clone(),
+                }
+            };
+            let (xa, xb) = match &pw {
+                Some(p) => (T::zero(), p.w_end.clone()),
+                None => (a.clone(), b.clone()),
+            };
+            let half = (xb.clone() - &xa) / &two;
             let mid = (a.clone() + &b) / &two;
+            // The u of the local coordinate ξ (the ends exactly a and b).
             let at = |xi: &T| -> T {
-                if *xi >= T::zero() {
-                    b.clone() - &(half.clone() * &(T::one() - xi))
+                let x = if *xi >= T::zero() {
+                    xb.clone() - &(half.clone() * &(T::one() - xi))
                 } else {
-                    a.clone() + &(half.clone() * &(T::one() + xi))
+                    xa.clone() + &(half.clone() * &(T::one() + xi))
+                };
+                match &pw {
+                    _ if *xi == T::one() => b.clone(),
+                    _ if *xi == -T::one() => a.clone(),
+                    Some(p) => x.powf(&p.m).clamp(&a, &b),
+                    None => x,
                 }
             };
             let nodes: Vec<T> = basis.second.iter().map(&at).collect();
             let vals: Vec<T> = nodes.iter().map(&mut *f).collect();
             stats.evaluations += vals.len();
-            let iw = T::one() / &(b.clone() - &a);
-            let xi: Vec<T> = nodes.iter().map(|u| local(u, &a, &b, &iw)).collect();
+            let iw = T::one() / &(xb.clone() - &xa);
+            let xi: Vec<T> = nodes
+                .iter()
+                .map(|u| local(&var(u), &xa, &xb, &iw))
+                .collect();
             let m = interpolate_distinct(&xi, &vals);
             let mut err = T::zero();
             for xi in &basis.checks_second {
                 let u = at(xi);
                 let exact = f(&u);
                 stats.evaluations += 1;
-                let approx = horner(&m, &local(&u, &a, &b, &iw));
+                let approx = horner(&m, &local(&var(&u), &xa, &xb, &iw));
                 err = err.max(&(approx - &exact).abs());
             }
             let splittable = b.clone() - &a > *min_width && mid > a && mid < b;
@@ -88,6 +131,9 @@ impl<T: Real> Table1<T> {
                     what: "the tabulated inverse marginal at the narrowest panel",
                 });
             }
+            if pw.is_some() {
+                first = pw;
+            }
             worst = worst.max(&err);
             breaks.push(b.clone());
             values.push(vals[0].clone());
@@ -96,7 +142,8 @@ impl<T: Real> Table1<T> {
         }
         stats.panels = inv_width.len();
         stats.estimated_error = worst.to_f64();
-        let table = Table1::assemble(degree, breaks, inv_width, values, mono);
+        let mut table = Table1::assemble(degree, breaks, inv_width, values, mono);
+        table.power = first;
         Ok((table, stats))
     }
 
@@ -125,6 +172,7 @@ impl<T: Real> Table1<T> {
             values,
             mono,
             guide,
+            power: None,
         }
     }
 
@@ -163,13 +211,40 @@ impl<T: Real> Table1<T> {
     }
 
     fn eval_in(&self, i: usize, u: &T) -> T {
+        self.poly_at(i, &self.var_of(i, u))
+    }
+
+    /// The power variable of panel `i`, if it has one.
+    fn power_of(&self, i: usize) -> Option<&Power<T>> {
+        self.power.as_ref().filter(|_| i == 0)
+    }
+
+    /// Panel `i`'s variable at `u`: u, or w = u^(1/m).
+    fn var_of(&self, i: usize, u: &T) -> T {
+        match self.power_of(i) {
+            Some(p) => u.powf(&p.inv_m),
+            None => u.clone(),
+        }
+    }
+
+    /// Panel `i`'s ends in its variable.
+    fn var_bounds(&self, i: usize) -> (T, T) {
+        match self.power_of(i) {
+            Some(p) => (T::zero(), p.w_end.clone()),
+            None => (self.breaks[i].clone(), self.breaks[i + 1].clone()),
+        }
+    }
+
+    /// Panel `i`'s polynomial at `x` (in its variable), clamped to its range.
+    fn poly_at(&self, i: usize, x: &T) -> T {
         let d1 = self.degree + 1;
-        let xi = local(u, &self.breaks[i], &self.breaks[i + 1], &self.inv_width[i]);
+        let (a, b) = self.var_bounds(i);
+        let xi = local(x, &a, &b, &self.inv_width[i]);
         horner(&self.mono[i * d1..(i + 1) * d1], &xi).clamp(&self.values[i], &self.values[i + 1])
     }
 
     /// The u with eval(u) = s, by safeguarded Newton on the panel whose range
-    /// contains s.
+    /// contains s (in w on a power panel, then u = w^m).
     pub fn inverse(&self, s: &T) -> T {
         let panels = self.panels();
         if !(*s > self.values[0]) {
@@ -189,12 +264,16 @@ impl<T: Real> Table1<T> {
             }
         }
         let piece = Piece { table: self, i: lo };
-        let (a, b) = (self.breaks[lo].clone(), self.breaks[lo + 1].clone());
+        let (a, b) = self.var_bounds(lo);
         let frac = ((s.clone() - &self.values[lo])
             / &(self.values[lo + 1].clone() - &self.values[lo]))
             .clamp(&T::zero(), &T::one());
         let x0 = a.clone() + &(frac * &(b.clone() - &a));
-        Newton::default().solve_in(&piece, s, x0, a, b).x
+        let x = Newton::default().solve_in(&piece, s, x0, a, b).x;
+        match self.power_of(lo) {
+            Some(p) => x.powf(&p.m).clamp(&self.breaks[0], &self.breaks[1]),
+            None => x,
+        }
     }
 
     /// The same table over `S` (every number converted).
@@ -207,31 +286,33 @@ impl<T: Real> Table1<T> {
             values: c(&self.values),
             mono: c(&self.mono),
             guide: self.guide.clone(),
+            power: self.power.as_ref().map(|p| Power {
+                m: convert(&p.m),
+                inv_m: convert(&p.inv_m),
+                w_end: convert(&p.w_end),
+            }),
         }
     }
 }
 
-/// One panel's polynomial as an increasing function for [`Newton`].
+/// One panel's polynomial, in the panel's variable, as an increasing
+/// function for [`Newton`].
 struct Piece<'a, T> {
     table: &'a Table1<T>,
     i: usize,
 }
 
 impl<T: Real> Cdf1<T> for Piece<'_, T> {
-    fn cdf(&self, u: &T) -> T {
-        self.table.eval_in(self.i, u)
+    fn cdf(&self, x: &T) -> T {
+        self.table.poly_at(self.i, x)
     }
-    fn pdf(&self, u: &T) -> T {
-        // d/du of the polynomial: Horner on the derivative.
+    fn pdf(&self, x: &T) -> T {
+        // d/dx of the polynomial: Horner on the derivative.
         let t = self.table;
         let d1 = t.degree + 1;
         let m = &t.mono[self.i * d1..(self.i + 1) * d1];
-        let xi = local(
-            u,
-            &t.breaks[self.i],
-            &t.breaks[self.i + 1],
-            &t.inv_width[self.i],
-        );
+        let (a, b) = t.var_bounds(self.i);
+        let xi = local(x, &a, &b, &t.inv_width[self.i]);
         let mut acc = T::zero();
         for (k, c) in m.iter().enumerate().skip(1).rev() {
             acc = acc * &xi + &(c.clone() * &T::from_i64(k as i64));

@@ -330,6 +330,16 @@ impl<T: Real> Table2<T> {
         }
         let frac = ((t.clone() - &tc) / &(te - &tc)).clamp(&T::zero(), &T::one());
         let x0 = c.clone() + &(frac * &(e.clone() - &c));
+        // Within u·(e − c) of c the local coordinate rounds to −1 (or
+        // nearly): the cell is flat there to the rounding of its value, and
+        // a root that close to c (a t within that rounding of the cell's
+        // value at c, as the chart gives at v = 0) is beyond Newton's
+        // relative tolerance: it bisected towards it until its iteration
+        // cap and stopped ~2^-114 away at 256 bits. c is a preimage to
+        // within u·(e − c).
+        if !(*t > piece.cdf(&(c.clone() + &((e.clone() - &c) * &T::unit_roundoff())))) {
+            return c;
+        }
         Newton::default().solve_in(&piece, t, x0, c, e).x
     }
 
