@@ -126,7 +126,8 @@ fn derived_warps_are_exact_and_match_the_closed_forms() {
     let cap = Cap::new(1.0).unwrap();
     let closed = DerivedWarp::new(cap.clone().with_closed_forms()).unwrap();
     check("cap θ_max = 1", cap, closed, true);
-    for k in [1.0, 10.0, 1000.0] {
+    // k = 0: the uniform lobe, whose weight 0^0 = 1 at the horizon.
+    for k in [0.0, 1.0, 10.0, 1000.0] {
         let name = format!("Phong k = {k}");
         check(
             &name,

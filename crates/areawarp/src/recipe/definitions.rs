@@ -190,7 +190,9 @@ spherical_definition!(
     "phong",
     [k],
     |self, p| {
-        if !(p.z > T::zero()) {
+        // The closed hemisphere: at the horizon z = 0 the weight is 0^k,
+        // 1 for k = 0 (no jump at s = 0 for the uniform lobe).
+        if !(p.z >= T::zero()) {
             T::zero()
         } else {
             p.z.powf(&self.k)
