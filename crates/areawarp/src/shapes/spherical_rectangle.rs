@@ -433,7 +433,7 @@ impl<T: Real> SphericalRectangle<T> {
         let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
         let robust = Robust::new(&geometry, Some(which));
         let (_, inv_omega) = check_range(&geometry, &robust)?;
-        Ok(sample_with_inline(&geometry, &robust, &inv_omega, u, v))
+        Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
     }
 
     /// The solid angle Ω of the rectangle with corner `s` and edges `ex`,
@@ -647,7 +647,11 @@ fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpEr
     Ok((omega, inv_omega))
 }
 
-/// M(u, v) with both densities, by the robust map.
+/// M(u, v) with both densities, by the robust map. Inlined into its caller:
+/// on the one-shot path the map's constants then need not be stored in a
+/// [`Robust`] and read back (what `sample_once` gains over constructing the
+/// shape).
+#[inline(always)]
 fn sample_with<T: Real>(
     g: &Geometry<T>,
     robust: &Robust<T>,
@@ -655,50 +659,9 @@ fn sample_with<T: Real>(
     u: &T,
     v: &T,
 ) -> LightSample<T> {
-    sample_from(
-        g,
-        inv_omega,
-        u,
-        v,
-        |u| robust.column_at(u),
-        |x, v| robust.row_at(x, v),
-    )
-}
-
-/// [`sample_with`] with the column and row inlined: the one-shot path,
-/// where the constants of the map then need not be stored in a [`Robust`]
-/// and read back (what `sample_once` gains over constructing the shape).
-#[inline(always)]
-fn sample_with_inline<T: Real>(
-    g: &Geometry<T>,
-    robust: &Robust<T>,
-    inv_omega: &T,
-    u: &T,
-    v: &T,
-) -> LightSample<T> {
-    sample_from(
-        g,
-        inv_omega,
-        u,
-        v,
-        |u| robust.column_at_inline(u),
-        |x, v| robust.row_at_inline(x, v),
-    )
-}
-
-/// M(u, v) with both densities from the column and the row of the map.
-#[inline(always)]
-fn sample_from<T: Real>(
-    g: &Geometry<T>,
-    inv_omega: &T,
-    u: &T,
-    v: &T,
-    column_at: impl FnOnce(&T) -> (T, T),
-    row_at: impl FnOnce(&T, &T) -> (T, T),
-) -> LightSample<T> {
     let (u, v) = (clamp_unit(u), clamp_unit(v));
-    let (xi, x) = column_at(&u);
-    let (eta, y) = row_at(&x, &v);
+    let (xi, x) = robust.column_at(&u);
+    let (eta, y) = robust.row_at(&x, &v);
     let point = g.point(&clamp01(&xi), &clamp01(&eta));
     let direction = g.direction(&x, &y);
     // pdf_area = cos θ_p / (Ω r²) with cos θ_p = h/r and the world distance

@@ -332,14 +332,10 @@ impl<T: Real> Robust<T> {
 
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
     /// `x_u` (scaled local), for `u ∈ [0, 1]`.
-    pub fn column_at(&self, u: &T) -> (T, T) {
-        self.column_at_inline(u)
-    }
-
-    /// [`Robust::column_at`] inlined into its caller (the one-shot path,
-    /// where the shape's constants need not be stored first).
+    /// Inlined into its caller (the one-shot path: the shape's constants
+    /// need not be stored first).
     #[inline(always)]
-    pub fn column_at_inline(&self, u: &T) -> (T, T) {
+    pub fn column_at(&self, u: &T) -> (T, T) {
         let half = T::from_ratio(1, 2);
         let (a, uu, mirrored) = if *u <= half {
             (&self.anchors[0], u.clone(), false)
@@ -403,13 +399,8 @@ impl<T: Real> Robust<T> {
 
     /// The row of the sample in column `x`: `(η, y_v)` with
     /// `η = (y_v − y₀)/(y₁ − y₀)`, for `v ∈ [0, 1]`.
-    pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
-        self.row_at_inline(x, v)
-    }
-
-    /// [`Robust::row_at`] inlined into its caller.
     #[inline(always)]
-    pub fn row_at_inline(&self, x: &T, v: &T) -> (T, T) {
+    pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
         let one = T::one();
         let x2 = x.square();
         let d2 = x2.clone() + &self.h2;
