@@ -35,8 +35,9 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 
 /// `(r cos 2πv, r sin 2πv)`, evaluated as [`cos_sin_turns`] describes, with
 /// the same roundings as `r` times its result: `r` enters through the exact
-/// products `r·cos(qπ/2)`, `r·sin(qπ/2)` (values in `{0, ±r}`), formed
-/// while `sin_cos` runs, so that the point costs two products fewer.
+/// products `r·cos(qπ/2)`, `r·sin(qπ/2)` (values in `{0, ±r}`), which
+/// [`Real::rotate_quarter_turns`] then rotates by the reduced angle, so that
+/// the point costs two products fewer.
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
     // cos(qπ/2) and sin(qπ/2) by q mod 4.

@@ -58,6 +58,26 @@ pub(super) struct Built<T> {
     pub measure: T,
 }
 
+/// The rough (≤ 2·10⁻⁵ per vertex) sum of the turning angles at the unit
+/// vertices `v`, which fixes the multiple of 4π of the solid angle
+/// (Gauss–Bonnet); an error where the boundary turns by ±π at a vertex
+/// (the two sides are then undefined).
+pub(super) fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
+    let n = v.len();
+    let fold = T::from_i64(64) * &T::unit_roundoff();
+    let mut turning = 0.0f64;
+    for i in 0..n {
+        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
+        if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
+            return Err(degenerate(
+                "the polygon folds straight back on itself at a vertex",
+            ));
+        }
+        turning += rough_angle(&det, &cos_part);
+    }
+    Ok(turning)
+}
+
 /// Validates the vertices, normalizes them and orients the polygon so that
 /// the smaller of the two regions its boundary bounds lies to the left
 /// (`(v_i × v_{i+1}) · p > 0` inside). Returns the vertices and the solid
@@ -90,21 +110,8 @@ pub(super) fn prepare<T: Real>(
             });
         }
     }
-    // A vertex where the boundary turns by ±π leaves the two sides undefined.
     let u = T::unit_roundoff();
-    // The turning angles serve twice: this test, and (roughly) the
-    // Gauss–Bonnet sum that fixes the multiple of 4π of the solid angle.
-    let fold = T::from_i64(64) * &u;
-    let mut turning = 0.0f64;
-    for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
-        if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
-            return Err(degenerate(
-                "the polygon folds straight back on itself at a vertex",
-            ));
-        }
-        turning += rough_angle(&det, &cos_part);
-    }
+    let turning = rough_turning(&v)?;
     // The rough solid angle 2π − Σ τ is off by at most 2·10⁻⁵ per vertex;
     // 10⁻⁴ per vertex leaves it a margin of 5.
     let rough = 2.0 * core::f64::consts::PI - turning;
@@ -545,11 +552,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
             w.sin_cos()
         };
         // Sort outwards at the middle meridian; check the order at the ends.
-        let r2_at = |e: &LuneEdge<T>, side: Side, c: &T, s: &T| -> T {
-            let sd = &e.side[side as usize];
-            let g = sd.g0.clone() * c + &(sd.k0.clone() * s);
-            e.nz2.clone() / &(e.nz2.clone() + &g.square())
-        };
         let (sm, cm) = if lune_edges.len() < 2 {
             (zero.clone(), T::one())
         } else if c1 >= zero {
@@ -617,8 +619,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         for side in [Side::Start, Side::End] {
             for pair in lune_edges.windows(2) {
                 let (r0, r1) = (
-                    r2_at(&pair[0], side, &T::one(), &zero),
-                    r2_at(&pair[1], side, &T::one(), &zero),
+                    pair[0].r2(side, &T::one(), &zero),
+                    pair[1].r2(side, &T::one(), &zero),
                 );
                 if r1 < r0 - &slack {
                     return Err(degenerate("self-intersecting polygon (edges cross)"));

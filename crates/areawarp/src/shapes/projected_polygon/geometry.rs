@@ -3,12 +3,10 @@
 //! unit vectors of vertices and normals, and the solid angle computed on
 //! demand.
 
-use super::build::{Arc, next, prev};
+use super::build::{Arc, rough_turning};
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::polygon_measures::{
-    oriented_solid_angle_with_turning, rough_angle, turning_parts,
-};
+use crate::shapes::polygon_measures::oriented_solid_angle_with_turning;
 use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 
@@ -119,12 +117,7 @@ pub(super) fn unit_direction<T: Real>(
 /// vertices (the smaller region, in `[0, 2π)`): the fan `prepare` skips
 /// where the rough sum decides, computed when it is asked for.
 fn solid_angle_of_units<T: Real>(v: &[Vec3<T>]) -> T {
-    let n = v.len();
-    let mut turning = 0.0f64;
-    for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
-        turning += rough_angle(&det, &cos_part);
-    }
+    let turning = rough_turning(v).expect("accepted vertices");
     let omega = oriented_solid_angle_with_turning(v, turning);
     let four_pi = T::pi() * &T::from_i64(4);
     let other = four_pi - &omega;

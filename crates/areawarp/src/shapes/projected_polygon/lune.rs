@@ -117,6 +117,14 @@ impl<T: Real> LuneEdge<T> {
         (g, den)
     }
 
+    /// r² = n_z²/(n_z² + g²) of the edge's point at side coordinate
+    /// `(c, s)` (the squared distance from the pole's axis).
+    #[inline]
+    pub fn r2(&self, side: Side, c: &T, s: &T) -> T {
+        let (_, den) = self.g(side, c, s);
+        self.nz2.clone() / &den
+    }
+
     /// α(x): the arc of the edge's great circle between its points on the
     /// side's meridian and at side coordinate x (eq. 1.47):
     /// `α = atan2(|n_z| sin x, n_z² cos x + g₀ g(x))`.
