@@ -254,20 +254,20 @@ fn left_exponent<T: Real, P: WarpDefinition<T>>(recipe: &DerivedRecipe<T, P>) ->
     let floor = T::exp2i(T::precision() as i32) / &T::max_value();
     let last = (T::precision() as i32 / 2).min(40);
     let mut z = recipe.normalizer(&T::exp2i(-3));
-    let mut exponents: Vec<T> = Vec::new();
+    // The last two local exponents.
+    let (mut m1, mut m2): (Option<T>, Option<T>) = (None, None);
     for j in 3..last {
         let z_half = recipe.normalizer(&T::exp2i(-(j + 1)));
         if !(z_half >= floor && z > z_half) {
             break;
         }
-        exponents.push(T::one() + &((z.clone() / &z_half).ln() / &ln2));
+        m1 = m2.take();
+        m2 = Some(T::one() + &((z.clone() / &z_half).ln() / &ln2));
         z = z_half;
     }
-    let [.., m1, m2] = exponents.as_slice() else {
-        return None;
-    };
-    let m = (m2.clone() * &T::from_i64(4) - m1) / &T::from_i64(3);
-    let power_law = (m1.clone() - m2).abs() * &T::from_i64(64) <= m;
+    let (m1, m2) = (m1?, m2?);
+    let m = (m2.clone() * &T::from_i64(4) - &m1) / &T::from_i64(3);
+    let power_law = (m1 - &m2).abs() * &T::from_i64(64) <= m;
     (power_law && m.is_finite() && m > T::from_ratio(17, 8)).then_some(m)
 }
 
