@@ -157,6 +157,8 @@ fn dial(c: &mut Criterion) {
     dial_for(c, "cap_0.5rad", Cap::new(0.5).expect("angle"));
     dial_for(c, "ggx_alpha0.5", Ggx::new(0.5).expect("alpha"));
     dial_for(c, "vmf_kappa10", VonMisesFisher::new(10.0).expect("kappa"));
+    // F⁻¹ ~ u^(1/11) at u = 0: the first panel in w = u^(1/m).
+    dial_for(c, "phong_k10", Phong::new(10.0).expect("k"));
 }
 
 fn config() -> Criterion {
