@@ -242,6 +242,22 @@ impl<T: Real> ConditionalGrid<T> {
         }
     }
 
+    /// Whether σw(s, ·), whose interpolant on the only t-panel has the
+    /// Chebyshev coefficients `density`, is uniform in t up to rounding:
+    /// every coefficient after the constant within [`TAIL_ULPS`] unit
+    /// roundoffs of it (the level at which the partition accepts a fit as
+    /// resolved). Then G_s(t) = t exactly, not t plus the noise that σ's
+    /// rounding puts into the higher coefficients (which moved G⁻¹(½) of the
+    /// derived Beckmann α = 0.1 by 6e-16 at u = 1 − 1e-11). See
+    /// `docs/recipe-quadrature.md`, "A conditional uniform up to rounding".
+    fn uniform_at(&self, density: &[T]) -> bool {
+        if self.panels.len() != 1 || density.is_empty() {
+            return false;
+        }
+        let bound = T::from_i64(TAIL_ULPS) * &T::unit_roundoff() * &density[0].abs();
+        bound > T::zero() && density[1..].iter().all(|c| c.abs() <= bound)
+    }
+
     /// Z(s) = ∫₀¹ σw(s, t) dt.
     pub fn normalizer<D: AreaDensity<T>>(&self, def: &D, s: &T, levels: &ChebyshevLevels<T>) -> T {
         let mut buf: [T; MAX_NODES] = core::array::from_fn(|_| T::zero());
@@ -362,6 +378,9 @@ impl<T: Real> ConditionalGrid<T> {
         let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         p.coefficients(levels, &buf, &mut density);
+        if self.uniform_at(&density) && (T::zero()..=T::one()).contains(v) {
+            return v.clone();
+        }
         let poly_mass = integral_coefficients_into(
             &density[..p.n],
             &p.half,
@@ -423,6 +442,9 @@ impl<T: Real> ConditionalGrid<T> {
             let mut right = vec![T::zero(); p.n + 1];
             p.coefficients(levels, vals, &mut density);
             density.truncate(p.n);
+            if self.uniform_at(&density) {
+                return vs.iter().map(|v| v.clamp(&T::zero(), &T::one())).collect();
+            }
             let poly_mass = integral_coefficients_into(&density, &p.half, &mut left, &mut right);
             polys.push((density, left, right, poly_mass));
         }
@@ -526,6 +548,9 @@ impl<T: Real> ConditionalGrid<T> {
             let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
             let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
             p.coefficients(levels, &buf, &mut density);
+            if self.uniform_at(&density[..p.n]) {
+                return t;
+            }
             integral_coefficients_into(
                 &density[..p.n],
                 &p.half,
