@@ -674,7 +674,7 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
         let x0 = 8.0 * next() - 4.0;
         let y0 = 8.0 * next() - 4.0;
         let (lx, ly) = (2.0 * next(), 2.0 * next());
-        let omega = 6.28 * 2f64.powi(-((next() * f64::from(max_log2_omega)) as i32)) * next();
+        let omega = 6.0 * 2f64.powi(-((next() * f64::from(max_log2_omega)) as i32)) * next();
         let local = [x0, y0, lx, ly, h];
         if area_density_in_range::<T>(&local, &omega, exp) {
             let exact = area_density_exact::<T>(&local, &omega, exp);
