@@ -28,7 +28,7 @@ use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
-use geometry::Geometry;
+use geometry::{Geometry, area_density_exact, area_density_in_range};
 use literal::Literal;
 use robust::{Cone, Robust};
 use std::sync::OnceLock;
@@ -625,23 +625,12 @@ fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpEr
             }
         });
     }
-    // h/(Ω r³) at the nearest and the farthest point, in the wide type:
-    // world lengths are the local ones times 2^exp.
     let w = |x: &T| x.widen();
-    let zero = <T::Wide as Real>::zero();
-    let (x0, y0, h) = (w(&g.x0), w(&g.y0), w(&g.h));
-    let (x1, y1) = (x0.clone() + &w(&g.lx), y0.clone() + &w(&g.ly));
-    let near_x = zero.clamp(&x0, &x1);
-    let near_y = zero.clamp(&y0, &y1);
-    let far_x = x0.abs().max(&x1.abs());
-    let far_y = y0.abs().max(&y1.abs());
-    let scale = <T::Wide as Real>::exp2i(-2 * g.exp);
-    let density = |x: &T::Wide, y: &T::Wide| {
-        let r = (x.square() + &y.square() + &h.square()).sqrt();
-        T::narrow(&(h.clone() / &(w(&omega) * &r * &r * &r) * &scale))
-    };
-    let (p_max, p_min) = (density(&near_x, &near_y), density(&far_x, &far_y));
-    if !p_max.is_finite() || !positive(&p_min) {
+    let local = [w(&g.x0), w(&g.y0), w(&g.lx), w(&g.ly), w(&g.h)];
+    let omega_w = w(&omega);
+    if !area_density_in_range::<T>(&local, &omega_w, g.exp)
+        && !area_density_exact::<T>(&local, &omega_w, g.exp)
+    {
         return Err(range::AREA_PDF);
     }
     Ok((omega, inv_omega))

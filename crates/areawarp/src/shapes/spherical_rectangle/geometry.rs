@@ -305,3 +305,66 @@ impl<T: Real> Geometry<T> {
         ))
     }
 }
+
+/// `(far_x, far_y)`, the farthest local coordinates of the rectangle
+/// `local = [x₀, y₀, ℓx, ℓy, h]`, and `(near_x, near_y)`, the nearest.
+#[inline(always)]
+pub(super) fn far_near<W: Real>(local: &[W; 5]) -> ((W, W), (W, W)) {
+    let [x0, y0, lx, ly, _] = local;
+    let (x1, y1) = (x0.clone() + lx, y0.clone() + ly);
+    let zero = W::zero();
+    (
+        (x0.abs().max(&x1.abs()), y0.abs().max(&y1.abs())),
+        (zero.clamp(x0, &x1), zero.clamp(y0, &y1)),
+    )
+}
+
+/// Whether the area densities `h/(Ω r³)` at the nearest and the farthest
+/// point of the rectangle `local = [x₀, y₀, ℓx, ℓy, h]` (local lengths,
+/// world = local · 2^exp), computed in the wide type, are finite and
+/// positive once rounded to `T`.
+pub(super) fn area_density_exact<T: Real>(local: &[T::Wide; 5], omega: &T::Wide, exp: i32) -> bool {
+    let h = &local[4];
+    let ((far_x, far_y), (near_x, near_y)) = far_near(local);
+    let scale = <T::Wide as Real>::exp2i(-2 * exp);
+    let density = |x: &T::Wide, y: &T::Wide| {
+        let r = (x.square() + &y.square() + &h.square()).sqrt();
+        T::narrow(&(h.clone() / &(omega.clone() * &r * &r * &r) * &scale))
+    };
+    let (p_max, p_min) = (density(&near_x, &near_y), density(&far_x, &far_y));
+    p_max.is_finite() && positive(&p_min)
+}
+
+/// A sufficient condition for [`area_density_exact`], by products alone
+/// (no square root, no division): `true` only if the exact test passes.
+/// Derivation: `docs/spherical-rectangle.md` (one-shot cost).
+#[inline(always)]
+pub(super) fn area_density_in_range<T: Real>(
+    local: &[T::Wide; 5],
+    omega: &T::Wide,
+    exp: i32,
+) -> bool {
+    type W<T> = <T as Real>::Wide;
+    let h = &local[4];
+    let two = W::<T>::from_i64(2);
+    if exp.abs() > 100 || !(*h <= two) {
+        return false;
+    }
+    let ((far_x, far_y), _) = far_near(local);
+    let scale = W::<T>::exp2i(-2 * exp);
+    let max = T::max_value().widen();
+    let tiny = W::<T>::from_i64(4) / &max;
+    // The same floor in the wide type, for its intermediate results.
+    let tiny_w = W::<T>::from_i64(4) / &W::<T>::max_value();
+    let h2 = h.square();
+    // Ω r³ ≥ Ω h³ stays normal, and h/(Ω r³) ≤ 2/(Ω h³) finite.
+    let no_underflow = omega.clone() * &h2 * h >= W::<T>::from_i64(64) * &tiny_w;
+    // r_near ≥ h: p_max ≤ s/(Ω h²).
+    let p_max_ok = omega.clone() * &h2 * &(max / &two) > scale;
+    // r_far ≤ R = far_x + far_y + h: p_min ≥ h s/(Ω R³), and h/(Ω R³) normal.
+    let r = far_x + &far_y + h;
+    let omega_r3 = omega.clone() * &(r.square() * &r);
+    let p_min_ok = h.clone() * &scale >= omega_r3.clone() * &W::<T>::from_i64(8) * &tiny
+        && *h >= omega_r3 * &W::<T>::from_i64(64) * &tiny_w;
+    no_underflow && p_max_ok && p_min_ok
+}

@@ -654,3 +654,59 @@ fn spherical_rectangle_rand_distribution() {
         }
     }
 }
+
+/// The products-only test of the area densities' range never accepts what
+/// the exact test (square roots and divisions) rejects, over local lengths,
+/// heights, solid angles and scales across both types' ranges; and it
+/// decides the ordinary cases (the one-shot path skips the exact test).
+fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for i in 0..200_000 {
+        let exp = (next() * 300.0) as i32 - 150;
+        let h = 2.0 * next() * 2f64.powi(-((next() * 80.0) as i32));
+        let h = if i % 7 == 0 { 2.0 } else { h };
+        let x0 = 8.0 * next() - 4.0;
+        let y0 = 8.0 * next() - 4.0;
+        let (lx, ly) = (2.0 * next(), 2.0 * next());
+        let omega = 6.0 * 2f64.powi(-((next() * f64::from(max_log2_omega)) as i32)) * next();
+        let local = [x0, y0, lx, ly, h];
+        if area_density_in_range::<T>(&local, &omega, exp) {
+            let exact = area_density_exact::<T>(&local, &omega, exp);
+            assert!(exact, "{local:?} omega {omega:e} exp {exp}");
+        }
+    }
+    // Ordinary rectangles (lengths within 2^±10 of one another, Ω above
+    // 1e-6 sr, world scale within 2^±20) are decided without the roots.
+    for _ in 0..10_000 {
+        let exp = (next() * 40.0) as i32 - 20;
+        let h = 2f64.powi(-((next() * 10.0) as i32)) * (1.0 + next());
+        let local = [
+            4.0 * next() - 2.0,
+            4.0 * next() - 2.0,
+            1.0 + next(),
+            next() + 1e-3,
+            h,
+        ];
+        let omega = 1e-6 + 6.0 * next();
+        assert!(
+            area_density_in_range::<T>(&local, &omega, exp),
+            "{local:?} {omega:e} {exp}"
+        );
+    }
+}
+
+#[test]
+fn area_density_fast_test_is_sound_f32() {
+    area_density_fast_test_is_sound::<f32>(140);
+}
+
+#[test]
+fn area_density_fast_test_is_sound_f64() {
+    area_density_fast_test_is_sound::<f64>(1100);
+}

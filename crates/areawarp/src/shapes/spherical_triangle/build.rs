@@ -20,22 +20,27 @@ pub(super) fn norm2<T: Real>(v: &Vec3<T>) -> T {
 }
 
 /// The unit tangent `[y|x]` at the unit vector `x` pointing along the great
-/// arc towards `y`, and `|y − (x·y)x| = sin∠(x, y)`.
+/// arc towards `y`, and `|y − (x·y)x| = sin∠(x, y)`, from the chords at hand:
+/// `minus = y − x`, `plus = y + x` and their squared lengths.
 ///
 /// `y − (x·y)x` cancels when `y ≈ ±x`; it is computed as
-/// `(y − x) + (|y − x|²/2)·x` when `x·y ≥ 0` and as
+/// `(y − x) + (|y − x|²/2)·x` when `|y − x| ≤ |y + x|` (`x·y ≥ 0`) and as
 /// `(y + x) − (|y + x|²/2)·x` otherwise (identities for unit vectors, since
 /// `1 − x·y = |y − x|²/2` and `1 + x·y = |y + x|²/2`): the differences are
-/// exact or nearly so, and the result has full relative accuracy.
+/// exact or nearly so, and the result has full relative accuracy. The
+/// chords are what the constructor has computed anyway (no dot product and
+/// no chord is formed twice).
 #[inline(always)]
-pub(super) fn tangent<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> Option<(Vec3<T>, T)> {
+pub(super) fn tangent<T: Real>(
+    x: &Vec3<T>,
+    (minus, q_minus): (&Vec3<T>, &T),
+    (plus, q_plus): (&Vec3<T>, &T),
+) -> Option<(Vec3<T>, T)> {
     let two = T::from_i64(2);
-    let t = if x.dot(y) >= T::zero() {
-        let e = y.sub(x);
-        e.add(&x.scale(&(norm2(&e) / &two)))
+    let t = if q_minus <= q_plus {
+        minus.add(&x.scale(&(q_minus.clone() / &two)))
     } else {
-        let e = y.add(x);
-        e.sub(&x.scale(&(norm2(&e) / &two)))
+        plus.sub(&x.scale(&(q_plus.clone() / &two)))
     };
     let len = norm2(&t).sqrt();
     if !positive(&len) || !len.is_finite() {
@@ -89,6 +94,10 @@ pub(super) struct Core<W> {
     pub ab: Vec3<W>,
     pub bc: Vec3<W>,
     pub ca: Vec3<W>,
+    /// C + A, |A − C|² and |A + C|² (for the tangents of the arc AC).
+    pub s_ca: Vec3<W>,
+    pub q_ca: W,
+    pub p_ca: W,
     /// det(A, B, C) > 0.
     pub ccw: bool,
     /// ±1: the sign of det(A, B, C).
@@ -145,7 +154,7 @@ impl<W: Real> Core<W> {
         let (p_ab, p_bc, p_ca) = (norm2(&s_ab), norm2(&s_bc), norm2(&s_ca));
         let k1a = p_ab.clone() / &two;
         let (sum, q_sum, third, pair) = if p_ca <= p_ab && p_ca <= p_bc {
-            (s_ca, p_ca, &b, 0)
+            (s_ca.clone(), p_ca.clone(), &b, 0)
         } else if p_ab <= p_bc {
             (s_ab, p_ab, &c, 1)
         } else {
@@ -179,7 +188,8 @@ impl<W: Real> Core<W> {
         // Ω first: the arc's tangent below runs while atan2 computes (on
         // the one-shot path nothing else hides atan2's latency).
         let omega = abs_det.atan2(&den) * &two;
-        let (c_perp, sin_b) = tangent(&a, &c).ok_or(reject::ANTIPODAL)?;
+        let (c_perp, sin_b) =
+            tangent(&a, (&ca.neg(), &q_ca), (&s_ca, &p_ca)).ok_or(reject::ANTIPODAL)?;
         let d = abs_det.clone() / &sin_b;
         let ka = ab.dot(&c_perp);
         if !positive(&omega) || !positive(&d) || !d.is_finite() {
@@ -193,6 +203,9 @@ impl<W: Real> Core<W> {
             ab,
             bc,
             ca,
+            s_ca,
+            q_ca,
+            p_ca,
             ccw,
             sign,
             c_perp,
@@ -210,7 +223,8 @@ impl<W: Real> Core<W> {
         if from_a {
             Anchor::new(&self.a, &self.c_perp, &self.b, &self.d, &self.sign)
         } else {
-            let (along, _) = tangent(&self.c, &self.a).ok_or(reject::ANTIPODAL)?;
+            let (along, _) = tangent(&self.c, (&self.ca, &self.q_ca), (&self.s_ca, &self.p_ca))
+                .ok_or(reject::ANTIPODAL)?;
             Anchor::new(&self.c, &along, &self.b, &self.d, &-self.sign.clone())
         }
     }
@@ -267,13 +281,15 @@ impl<W: Real> Anchor<W> {
         sign: &W,
     ) -> Result<Self, WarpError> {
         let two = W::from_i64(2);
-        let (t_b, _) = tangent(b, vertex).ok_or(reject::ANTIPODAL)?;
         let v_minus_b = vertex.sub(b);
         let v_plus_b = vertex.add(b);
-        let s2 = norm2(&v_minus_b) / W::from_i64(4);
+        let (q_minus, q_plus) = (norm2(&v_minus_b), norm2(&v_plus_b));
+        let (t_b, _) =
+            tangent(b, (&v_minus_b, &q_minus), (&v_plus_b, &q_plus)).ok_or(reject::ANTIPODAL)?;
+        let s2 = q_minus / W::from_i64(4);
         // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
         let k = v_minus_b.neg().dot(along);
-        let k1 = norm2(&v_plus_b) / &two;
+        let k1 = q_plus / &two;
         // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C). t_b ⊥ B,
         // both unit: the cross product is a unit vector up to rounding.
         let n_b = t_b.cross(b).scale(sign);
