@@ -52,10 +52,30 @@ pub(super) struct Built<T> {
     pub lunes: Vec<Lune<T>>,
     pub edges: Vec<LuneEdge<T>>,
     pub pairs: Vec<Pair<T>>,
-    /// The range of each pair's region ([`EdgeRange`]), beside `pairs`.
-    pub ranges: Vec<EdgeRange<T>>,
-    pub active: Vec<usize>,
     pub measure: T,
+}
+
+/// Sets each lune's cumulative areas before and after it and its index
+/// among the lunes of positive area (those that are sampled); returns the
+/// total, Π.
+pub(super) fn accumulate<T: Real>(lunes: &mut [Lune<T>]) -> T {
+    let zero = T::zero();
+    let mut measure = T::zero();
+    let mut active = 0;
+    for lune in lunes.iter_mut() {
+        lune.cum_start = measure.clone();
+        if lune.area > zero {
+            measure += &lune.area;
+            lune.active = Some(active);
+            active += 1;
+        }
+    }
+    let mut after = T::zero();
+    for lune in lunes.iter_mut().rev() {
+        lune.cum_after = after.clone();
+        after += &lune.area;
+    }
+    measure
 }
 
 /// The rough (≤ 2·10⁻⁵ per vertex) sum of the turning angles at the unit
@@ -507,7 +527,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(crossings);
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(crossings);
-    let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(crossings);
     let mut magnitude = T::zero();
     // The arc of each of the current lune's edges (on the stack for up to
     // 16 arcs).
@@ -689,8 +708,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
                 d,
                 shared,
                 r0,
+                range: EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened(),
             });
-            ranges.push(EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened());
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
@@ -725,21 +744,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         lunes.push(lune);
     }
     // Projected area by lune; lunes of zero area are never sampled.
-    let mut measure = T::zero();
-    let mut active = Vec::with_capacity(m);
-    for (k, lune) in lunes.iter_mut().enumerate() {
-        lune.cum_start = measure.clone();
-        if lune.area > zero {
-            measure += &lune.area;
-            lune.active = Some(active.len());
-            active.push(k);
-        }
-    }
-    let mut after = T::zero();
-    for lune in lunes.iter_mut().rev() {
-        lune.cum_after = after.clone();
-        after += &lune.area;
-    }
+    let measure = accumulate(&mut lunes);
     if !(measure > T::from_i64(64) * &u * &magnitude) || !measure.is_finite() {
         return Err(degenerate(
             "projected solid angle not resolved at this precision: below 64 units of \
@@ -752,8 +757,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         lunes,
         edges,
         pairs,
-        ranges,
-        active,
         measure,
     })
 }
