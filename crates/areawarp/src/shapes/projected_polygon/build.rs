@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Inverter, Newton};
 use crate::shapes::polygon_measures::{
-    oriented_solid_angle_with_turning, rough_angle, turning_parts,
+    edge_cross, oriented_solid_angle_with_turning, rough_angle, turning_from_normals,
 };
 use crate::vector::Vec3;
 
@@ -86,8 +86,13 @@ pub(super) fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
     let n = v.len();
     let fold = T::from_i64(64) * &T::unit_roundoff();
     let mut turning = 0.0f64;
+    // Each edge's normal once: the edge out of a vertex is the edge into
+    // the next (the same operations as `turning_parts`, the same bits).
+    let mut n1 = edge_cross(&v[n - 1], &v[0]);
     for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
+        let n2 = edge_cross(&v[i], &v[next(i, n)]);
+        let (det, cos_part) = turning_from_normals(&n1, &n2, &v[i]);
+        n1 = n2;
         if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
             return Err(degenerate(
                 "the polygon folds straight back on itself at a vertex",
@@ -417,10 +422,14 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     // partition does not depend on the rounding of such edges. Each merged
     // meridian is the least azimuth of its cluster.
     // (azimuth, cos, sin) of each meridian.
+    // An end that the next arc starts from shares its azimuth (the same
+    // bits, pushed next): only the start is pushed, which leaves the
+    // merged meridians as they are.
     let mut bounds: Vec<(T, T, T)> = Vec::with_capacity(2 * nu);
-    for a in &usable {
-        for (az, (c, s)) in [(&a.az.0, &a.cs[0]), (&a.az.1, &a.cs[1])] {
-            bounds.push((az.clone(), c.clone(), s.clone()));
+    for (i, a) in usable.iter().enumerate() {
+        bounds.push((a.az.0.clone(), a.cs[0].0.clone(), a.cs[0].1.clone()));
+        if usable[next(i, nu)].arc.a != a.arc.b {
+            bounds.push((a.az.1.clone(), a.cs[1].0.clone(), a.cs[1].1.clone()));
         }
     }
     bounds.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(core::cmp::Ordering::Equal));
