@@ -222,9 +222,20 @@ fn rough_atan2(y: f64, x: f64) -> f64 {
 /// from outside the sphere), with n₁ = a × b, n₂ = b × c computed from
 /// differences (accurate for short edges).
 pub(crate) fn turning_parts<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> (T, T) {
-    let n1 = a.cross(&b.sub(a));
-    let n2 = b.cross(&c.sub(b));
-    (n1.cross(&n2).dot(b), n1.dot(&n2))
+    turning_from_normals(&edge_cross(a, b), &edge_cross(b, c), b)
+}
+
+/// `a × (b − a)`, the normal of the edge `a → b` that [`turning_parts`]
+/// uses (from the difference: accurate for short edges).
+pub(crate) fn edge_cross<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> Vec3<T> {
+    a.cross(&b.sub(a))
+}
+
+/// [`turning_parts`] at `b` from the normals `n1`, `n2` ([`edge_cross`])
+/// of the edges into and out of `b`, for a caller that walks the boundary
+/// and computes each edge's normal once.
+pub(crate) fn turning_from_normals<T: Real>(n1: &Vec3<T>, n2: &Vec3<T>, b: &Vec3<T>) -> (T, T) {
+    (n1.cross(n2).dot(b), n1.dot(n2))
 }
 
 /// The solid angle of a simple spherical polygon, whatever its orientation:

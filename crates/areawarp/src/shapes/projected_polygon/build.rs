@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Inverter, Newton};
 use crate::shapes::polygon_measures::{
-    oriented_solid_angle_with_turning, rough_angle, turning_parts,
+    edge_cross, oriented_solid_angle_with_turning, rough_angle, turning_from_normals,
 };
 use crate::vector::Vec3;
 
@@ -52,10 +52,30 @@ pub(super) struct Built<T> {
     pub lunes: Vec<Lune<T>>,
     pub edges: Vec<LuneEdge<T>>,
     pub pairs: Vec<Pair<T>>,
-    /// The range of each pair's region ([`EdgeRange`]), beside `pairs`.
-    pub ranges: Vec<EdgeRange<T>>,
-    pub active: Vec<usize>,
     pub measure: T,
+}
+
+/// Sets each lune's cumulative areas before and after it and its index
+/// among the lunes of positive area (those that are sampled); returns the
+/// total, Π.
+pub(super) fn accumulate<T: Real>(lunes: &mut [Lune<T>]) -> T {
+    let zero = T::zero();
+    let mut measure = T::zero();
+    let mut active = 0;
+    for lune in lunes.iter_mut() {
+        lune.cum_start = measure.clone();
+        if lune.area > zero {
+            measure += &lune.area;
+            lune.active = Some(active);
+            active += 1;
+        }
+    }
+    let mut after = T::zero();
+    for lune in lunes.iter_mut().rev() {
+        lune.cum_after = after.clone();
+        after += &lune.area;
+    }
+    measure
 }
 
 /// The rough (≤ 2·10⁻⁵ per vertex) sum of the turning angles at the unit
@@ -66,8 +86,13 @@ pub(super) fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
     let n = v.len();
     let fold = T::from_i64(64) * &T::unit_roundoff();
     let mut turning = 0.0f64;
+    // Each edge's normal once: the edge out of a vertex is the edge into
+    // the next (the same operations as `turning_parts`, the same bits).
+    let mut n1 = edge_cross(&v[n - 1], &v[0]);
     for i in 0..n {
-        let (det, cos_part) = turning_parts(&v[prev(i, n)], &v[i], &v[next(i, n)]);
+        let n2 = edge_cross(&v[i], &v[next(i, n)]);
+        let (det, cos_part) = turning_from_normals(&n1, &n2, &v[i]);
+        n1 = n2;
         if cos_part < T::zero() && det.abs() <= fold.clone() * &cos_part.abs() {
             return Err(degenerate(
                 "the polygon folds straight back on itself at a vertex",
@@ -397,10 +422,14 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     // partition does not depend on the rounding of such edges. Each merged
     // meridian is the least azimuth of its cluster.
     // (azimuth, cos, sin) of each meridian.
+    // An end that the next arc starts from shares its azimuth (the same
+    // bits, pushed next): only the start is pushed, which leaves the
+    // merged meridians as they are.
     let mut bounds: Vec<(T, T, T)> = Vec::with_capacity(2 * nu);
-    for a in &usable {
-        for (az, (c, s)) in [(&a.az.0, &a.cs[0]), (&a.az.1, &a.cs[1])] {
-            bounds.push((az.clone(), c.clone(), s.clone()));
+    for (i, a) in usable.iter().enumerate() {
+        bounds.push((a.az.0.clone(), a.cs[0].0.clone(), a.cs[0].1.clone()));
+        if usable[next(i, nu)].arc.a != a.arc.b {
+            bounds.push((a.az.1.clone(), a.cs[1].0.clone(), a.cs[1].1.clone()));
         }
     }
     bounds.sort_by(|x, y| x.0.partial_cmp(&y.0).unwrap_or(core::cmp::Ordering::Equal));
@@ -507,7 +536,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(crossings);
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(crossings);
-    let mut ranges: Vec<EdgeRange<T>> = Vec::with_capacity(crossings);
     let mut magnitude = T::zero();
     // The arc of each of the current lune's edges (on the stack for up to
     // 16 arcs).
@@ -689,8 +717,8 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
                 d,
                 shared,
                 r0,
+                range: EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened(),
             });
-            ranges.push(EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened());
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
@@ -725,21 +753,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         lunes.push(lune);
     }
     // Projected area by lune; lunes of zero area are never sampled.
-    let mut measure = T::zero();
-    let mut active = Vec::with_capacity(m);
-    for (k, lune) in lunes.iter_mut().enumerate() {
-        lune.cum_start = measure.clone();
-        if lune.area > zero {
-            measure += &lune.area;
-            lune.active = Some(active.len());
-            active.push(k);
-        }
-    }
-    let mut after = T::zero();
-    for lune in lunes.iter_mut().rev() {
-        lune.cum_after = after.clone();
-        after += &lune.area;
-    }
+    let measure = accumulate(&mut lunes);
     if !(measure > T::from_i64(64) * &u * &magnitude) || !measure.is_finite() {
         return Err(degenerate(
             "projected solid angle not resolved at this precision: below 64 units of \
@@ -752,8 +766,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         lunes,
         edges,
         pairs,
-        ranges,
-        active,
         measure,
     })
 }

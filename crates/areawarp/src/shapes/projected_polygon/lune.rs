@@ -155,6 +155,9 @@ pub(super) struct Pair<T> {
     /// the polar triangle's fixed side in [`Lune::swept`], computed once at
     /// construction.
     pub r0: [T; 2],
+    /// The range of the interval's region in the lune (samples are clamped
+    /// into it).
+    pub range: EdgeRange<T>,
 }
 
 /// The range of r² and of z² over a part of an edge, or over the region
@@ -163,9 +166,7 @@ pub(super) struct Pair<T> {
 /// ([`EdgeRange::pair`]). Samples are clamped into their interval's range
 /// (widened by rounding, [`EdgeRange::slackened`]), which keeps them within
 /// the lune's azimuth width of the region where the edges' r² on a meridian
-/// is ill-conditioned (edges nearly along a meridian). Kept beside the
-/// pairs, not in them, so that the marginal's loops over the pairs do not
-/// load them.
+/// is ill-conditioned (edges nearly along a meridian).
 #[derive(Clone, Debug)]
 pub(super) struct EdgeRange<T> {
     /// (least r², largest r²).
@@ -452,7 +453,7 @@ impl<T: Real> Lune<T> {
 
     /// `(r², z²)` of the point at conditional probability `v` on the
     /// meridian at side coordinate `(c, s)`, clamped into its interval's
-    /// range (`ranges`, beside `pairs`): uniform in r² (equivalently in
+    /// range ([`Pair::range`]): uniform in r² (equivalently in
     /// z²) over the union of intervals, from the pole outwards. `v ≤ 1/2` is
     /// measured from the pole, `v > 1/2` from the outer end with `1 − v`
     /// (exact there), so that both ends keep their relative accuracy.
@@ -461,7 +462,6 @@ impl<T: Real> Lune<T> {
         &self,
         edges: &[LuneEdge<T>],
         pairs: &[Pair<T>],
-        ranges: &[EdgeRange<T>],
         side: Side,
         c: &T,
         s: &T,
@@ -480,7 +480,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i + 1 == ni {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = ranges[self.first + i].clamp(iv.r_in + &t, iv.z_in - &t);
+                    out = p.range.clamp(iv.r_in + &t, iv.z_in - &t);
                     break;
                 }
                 cum += &iv.len;
@@ -492,7 +492,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i == 0 {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = ranges[self.first + i].clamp(iv.r_out - &t, iv.z_out + &t);
+                    out = p.range.clamp(iv.r_out - &t, iv.z_out + &t);
                     break;
                 }
                 cum += &iv.len;
@@ -758,5 +758,32 @@ fn zero_order<T: Real>(base: &LuneCdf<'_, T>, xh: &T) -> u8 {
         3
     } else {
         2
+    }
+}
+
+/// A lune of positive area (one that is sampled): its index among all the
+/// lunes, and its fitted inverse marginal from its start and its end,
+/// computed the first time a sample falls in it
+/// ([`fit_lune`](super::build::fit_lune)).
+#[derive(Clone, Debug)]
+pub(super) struct ActiveLune<T> {
+    /// Index into the lunes.
+    pub lune: usize,
+    /// The fits from the start and from the end, once computed.
+    pub fit: OnceLock<[SideFit<T>; 2]>,
+}
+
+impl<T: Real> ActiveLune<T> {
+    /// The lunes of positive area among `lunes`, by azimuth.
+    pub fn of(lunes: &[Lune<T>]) -> Vec<Self> {
+        lunes
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.active.is_some())
+            .map(|(lune, _)| ActiveLune {
+                lune,
+                fit: OnceLock::new(),
+            })
+            .collect()
     }
 }

@@ -14,7 +14,7 @@ mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
-use self::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use self::lune::{ActiveLune, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
@@ -154,16 +154,9 @@ pub struct ProjectedPolygon<T> {
     lunes: Vec<Lune<T>>,
     edges: Vec<LuneEdge<T>>,
     pairs: Vec<Pair<T>>,
-    /// The range of each pair's region, beside `pairs` (samples are
-    /// clamped into it).
-    ranges: Vec<EdgeRange<T>>,
-    /// Indices (into `lunes`) of the lunes of positive area, by azimuth.
-    active: Vec<usize>,
-    /// The fitted inverse marginal of each active lune from its start and
-    /// its end, computed on first use ([`ProjectedPolygon::fit`]); beside
-    /// the lunes, not in them, so that building the lunes moves small
-    /// structs.
-    fits: Vec<OnceLock<[SideFit<T>; 2]>>,
+    /// The lunes of positive area, by azimuth, with their fitted inverse
+    /// marginals (computed on first use, [`ProjectedPolygon::fit`]).
+    active: Vec<ActiveLune<T>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
@@ -349,10 +342,9 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
-            ranges,
-            active,
             measure,
         } = built;
+        let active = ActiveLune::of(&lunes);
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -361,8 +353,6 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
-            ranges,
-            fits: active.iter().map(|_| OnceLock::new()).collect(),
             active,
             measure,
             solid_angle,
@@ -431,14 +421,14 @@ impl<T: Real> ProjectedPolygon<T> {
         let t = u.clone() * &self.measure;
         let t_rev = (one.clone() - &u) * &self.measure;
         let k = if u <= half {
-            self.active[..na - 1].partition_point(|&l| {
-                let lune = &self.lunes[l];
+            self.active[..na - 1].partition_point(|a| {
+                let lune = &self.lunes[a.lune];
                 lune.cum_start.clone() + &lune.area <= t
             })
         } else {
-            self.active[..na - 1].partition_point(|&l| self.lunes[l].cum_after > t_rev)
+            self.active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
         };
-        let lune = &self.lunes[self.active[k]];
+        let lune = &self.lunes[self.active[k].lune];
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
         if y <= self.fit(k)[0].fh {
             (k, Side::Start, y)
@@ -453,8 +443,9 @@ impl<T: Real> ProjectedPolygon<T> {
     /// the construction's cost otherwise, and a renderer that builds the
     /// sampler for a few samples pays only for the lunes it visits.
     fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
-        let lune = &self.lunes[self.active[k]];
-        self.fits[k].get_or_init(|| fit_lune(lune, &self.edges, &self.pairs))
+        let a = &self.active[k];
+        a.fit
+            .get_or_init(|| fit_lune(&self.lunes[a.lune], &self.edges, &self.pairs))
     }
 
     fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
@@ -470,7 +461,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// inversion, in the transformed half-marginal G of [`SideFit`].
     fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
         let fit = &self.fit(k)[side as usize];
-        let cdf = fit.half(self.lune_cdf(self.active[k], side));
+        let cdf = fit.half(self.lune_cdf(self.active[k].lune, side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
@@ -515,7 +506,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
         let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k]];
+        let lune = &self.lunes[self.active[k].lune];
         let x = self.invert_marginal(k, side, &y);
         match side {
             Side::Start => lune.start.clone() + &x,
@@ -613,7 +604,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k]];
+        let lune = &self.lunes[self.active[k].lune];
         let x = self.invert_marginal(k, side, &y);
         let (s, c) = x.sin_cos();
         let (cos_phi, sin_phi) = match side {
@@ -634,15 +625,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
                 )
             }
         };
-        let (r2, z2) = lune.sample(
-            &self.edges,
-            &self.pairs,
-            &self.ranges,
-            side,
-            &c,
-            &s,
-            &clamp_unit(v),
-        );
+        let (r2, z2) = lune.sample(&self.edges, &self.pairs, side, &c, &s, &clamp_unit(v));
         let r = r2.sqrt();
         let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
         match &self.frame {

@@ -8,7 +8,7 @@
 //! correctly rounded (no cancellation in `f32`), and its samples are held
 //! in their lune and interval by the rounded ranges.
 
-use super::build::{Arc, Built};
+use super::build::{Arc, Built, accumulate};
 use super::lune::{EdgeRange, EdgeSide, Lune, LuneEdge, Pair};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -94,9 +94,9 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             d: [n2::<T>(&p.d[0]), n2::<T>(&p.d[1])],
             shared: p.shared,
             r0: [T::narrow(&p.r0[0]), T::narrow(&p.r0[1])],
+            range: range::<T>(&p.range),
         })
         .collect();
-    let ranges = w.ranges.iter().map(range::<T>).collect();
     let zero = T::zero();
     let mut lunes: Vec<Lune<T>> = w
         .lunes
@@ -126,24 +126,8 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         })
         .collect();
     // The cumulative areas and the active lunes again, in T.
-    let mut measure = T::zero();
-    // The wide vector of active lunes, reused.
-    let mut active = w.active;
-    active.clear();
-    for (k, lune) in lunes.iter_mut().enumerate() {
-        lune.cum_start = measure.clone();
-        if lune.area > zero {
-            measure += &lune.area;
-            lune.active = Some(active.len());
-            active.push(k);
-        }
-    }
-    let mut after = T::zero();
-    for lune in lunes.iter_mut().rev() {
-        lune.cum_after = after.clone();
-        after += &lune.area;
-    }
-    if active.is_empty() || !(measure > zero) || !measure.is_finite() {
+    let measure = accumulate(&mut lunes);
+    if !(measure > zero) || !measure.is_finite() {
         return None;
     }
     Some(Built {
@@ -151,8 +135,6 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
         lunes,
         edges,
         pairs,
-        ranges,
-        active,
         measure,
     })
 }

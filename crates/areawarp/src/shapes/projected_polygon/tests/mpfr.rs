@@ -54,10 +54,10 @@ fn projected_polygon_marginal_density_is_derivative() {
             .at::<M>()
             .unwrap();
         let h = M::exp2i(-80);
-        for (&k, side) in w
+        for (k, side) in w
             .active
             .iter()
-            .flat_map(|k| [(k, Side::Start), (k, Side::End)])
+            .flat_map(|a| [(a.lune, Side::Start), (a.lune, Side::End)])
         {
             let lune = &w.lunes[k];
             let cdf = w.lune_cdf(k, side);
@@ -241,17 +241,17 @@ fn arvo_cubic_backward(w: &ProjectedPolygon<f64>, us: &[f64]) -> (f64, f64) {
     let fits: Vec<FittedCubic<f64>> = w
         .active
         .iter()
-        .map(|&k| FittedCubic::fit(&w.lune_cdf(k, Side::Start)))
+        .map(|a| FittedCubic::fit(&w.lune_cdf(a.lune, Side::Start)))
         .collect();
     let errs = us
         .iter()
         .map(|&u| {
             let t = u * w.measure;
-            let k = w.active[..w.active.len() - 1].partition_point(|&l| {
-                let lune = &w.lunes[l];
+            let k = w.active[..w.active.len() - 1].partition_point(|a| {
+                let lune = &w.lunes[a.lune];
                 lune.cum_start + lune.area <= t
             });
-            let lune = &w.lunes[w.active[k]];
+            let lune = &w.lunes[w.active[k].lune];
             let y = ((t - lune.cum_start) / lune.area).clamp(0.0, 1.0);
             let (lo, hi) = fits[k].bracket(&y);
             let phi = lune.start + fits[k].eval(&y).clamp(lo, hi);
