@@ -94,7 +94,11 @@ fn phong_meets_its_tolerance(k: f64, tolerances: &[f64]) {
     us.extend([0.0, 1.0]);
     for &tol in tolerances {
         let (table, m, _) = measure(&derived, &exact, tol, &pts);
-        assert!(m.inverse() <= tol, "k {k} tol {tol}: {m:?} {:?}", table.report());
+        assert!(
+            m.inverse() <= tol,
+            "k {k} tol {tol}: {m:?} {:?}",
+            table.report()
+        );
         assert_eq!(m.non_finite, 0);
         let worst = us
             .iter()

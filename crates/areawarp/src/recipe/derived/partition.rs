@@ -2,8 +2,8 @@
 //! non-negative density on [0, 1] is resolved to the type's precision, and
 //! resolved *relative to itself* wherever it matters (see [`Settings`]).
 
-use crate::real::Real;
 use super::power::{fill_origin, power_mass};
+use crate::real::Real;
 use crate::recipe::chebyshev::{ChebyshevLevel, ChebyshevLevels, LEVELS, TAIL_ULPS, local, tail};
 
 /// A density sampled on one panel `[a, b]` at the Chebyshev points of its
@@ -475,11 +475,7 @@ pub(crate) fn adaptive_partition<T: Real>(
         let bulk = fscale.clone() * &width > negligible;
         let in_tail = left_tail && !bulk_seen && fscale >= underflow;
         let matters = bulk || in_tail;
-        let ratio = if bulk {
-            &settings.ratio
-        } else {
-            &deep_ratio
-        };
+        let ratio = if bulk { &settings.ratio } else { &deep_ratio };
         let steep = matters && fit.b <= tail_start && fit.scale > ratio.clone() * &fit.floor;
         if splittable && ((matters && !fit.resolved) || steep) {
             let (l, r) = split(f, &fit, levels, &mut evaluations);

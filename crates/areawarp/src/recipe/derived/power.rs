@@ -174,8 +174,8 @@ impl<T: Real> PowerPanel<T> {
             if !(hv > T::zero() && qv > T::zero()) {
                 break;
             }
-            let phi = self.e.clone() * &(self.kappa.clone() * &s).ln() + &s.ln() + &hv.ln()
-                - &ln_target;
+            let phi =
+                self.e.clone() * &(self.kappa.clone() * &s).ln() + &s.ln() + &hv.ln() - &ln_target;
             let ratio = phi * &hv / &qv;
             let next = if ratio >= T::one() {
                 s.clone() / &T::from_i64(2)
