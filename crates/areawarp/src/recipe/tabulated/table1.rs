@@ -40,6 +40,9 @@ struct Power<T> {
     ends: Vec<T>,
 }
 
+/// A panel to fit: its ends in u and, for a panel fitted in w, in w.
+type Pending<T> = (T, T, Option<(T, T)>);
+
 /// What fitting a table reports.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct FitStats {
@@ -74,7 +77,7 @@ impl<T: Real> Table1<T> {
         let half_u = T::from_ratio(1, 2);
         let inv_m = power.map(|m| T::one() / m);
         // (a, b, the ends in w of a panel of [0, 1/2] fitted in w).
-        let mut stack: Vec<(T, T, Option<(T, T)>)> = match &inv_m {
+        let mut stack: Vec<Pending<T>> = match &inv_m {
             Some(im) => vec![
                 (half_u.clone(), T::one(), None),
                 (
