@@ -243,7 +243,7 @@ mod tests {
         let b = 0.5f64;
         let e = 0.5f64;
         let p = PowerPanel::new(&[1.25, 0.25], &b, &e);
-        for s in [1e-300, 1e-30, 1e-3, 0.1, 0.5] {
+        for s in [1e-200, 1e-30, 1e-3, 0.1, 0.5] {
             let exact = f64::powf(s, 1.5) * (2.0 / 3.0 + 0.4 * s);
             assert!((p.left(&s) / exact - 1.0).abs() < 4e-16, "{s}");
         }
