@@ -8,8 +8,9 @@
 //!   at the points between the nodes is below tolerance/4. Near an end where
 //!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically; where it
 //!   behaves like u^(1/m) with m > 17/8 (σw ~ s^(m−1), a Phong lobe seen
-//!   from the horizon), the first panel is fitted in w = u^(1/m) instead
-//!   (see `left_exponent` and docs/recipe-quadrature.md §5). A single
+//!   from the horizon), the panels of [0, 1/2] are fitted and bisected in
+//!   w = u^(1/m) instead (see `left_exponent` and
+//!   docs/recipe-quadrature.md §5). A single
 //!   panel of degree 3 is the Vandermonde cubic of
 //!   [`VandermondeCubic`](super::VandermondeCubic).
 //! * G⁻¹(s, v): G_s depends on s, so the table is two-dimensional:
