@@ -126,8 +126,10 @@ fn derived_warps_are_exact_and_match_the_closed_forms() {
     let cap = Cap::new(1.0).unwrap();
     let closed = DerivedWarp::new(cap.clone().with_closed_forms()).unwrap();
     check("cap θ_max = 1", cap, closed, true);
-    // k = 0: the uniform lobe, whose weight 0^0 = 1 at the horizon.
-    for k in [0.0, 1.0, 10.0, 1000.0] {
+    // k = 0: the uniform lobe, whose weight 0^0 = 1 at the horizon; k = 1/2
+    // and 3/2: σw ~ s^k not smooth at s = 0 (a power panel, σw/s^k
+    // interpolated); k = 30, 100: F relatively accurate far below u².
+    for k in [0.0, 0.5, 1.0, 1.5, 10.0, 30.0, 100.0, 1000.0] {
         let name = format!("Phong k = {k}");
         check(
             &name,

@@ -70,32 +70,35 @@ fn tabulated_cap_meets_its_tolerance() {
     }
 }
 
-/// A Phong lobe of exponent k = 10 seen from the horizon: F(s) =
-/// sin^11(πs/2), so F⁻¹(u) = (2/π)·asin(u^(1/11)) has an algebraic
-/// singularity of exponent 1/11 at u = 0, which no polynomial in u meets on
-/// panels of any representable width (issue 12, defect a). The table's
-/// first panel is fitted in w = u^(1/m), m estimated from the derived F.
-/// Certified twice at 256 bits: against the 256-bit derived warp on the
-/// usual points, and against the closed form F⁻¹ at every u = 2^-j of f64
-/// (j = 1 … 1074, where the derived warps themselves lose F's relative
-/// accuracy below masses of u²) and at 1000 points of (0, 1).
-#[test]
-fn tabulated_phong_meets_its_tolerance() {
-    let k = 10;
-    let derived = DerivedWarp::new(Phong::new(k as f64).unwrap()).unwrap();
+/// A Phong lobe of exponent k seen from the horizon: F(s) =
+/// sin^(k+1)(πs/2), so F⁻¹(u) = (2/π)·asin(u^(1/(k+1))) has an algebraic
+/// singularity of exponent 1/(k + 1) at u = 0, which no polynomial in u
+/// meets on panels of any representable width (issue 12, defect a). The
+/// table's first panel is fitted in w = u^(1/m), m = k + 1 from the
+/// definition's exponent (`WarpDefinition::left_power`). Certified twice at
+/// 256 bits: against the 256-bit derived warp on the usual points, and
+/// against the closed form F⁻¹ at every u = 2^-j of f64 (j = 1 … 1074) and
+/// at 1000 points of (0, 1).
+fn phong_meets_its_tolerance(k: f64, tolerances: &[f64]) {
+    let derived = DerivedWarp::new(Phong::new(k).unwrap()).unwrap();
     let exact = derived.at::<Mpfr256>().unwrap();
     let pts = points(100);
     type M = Mpfr256;
+    let inv_m = M::one() / &(M::from_f64(k) + &M::one());
     let closed = |u: f64| -> M {
-        let w = M::from_f64(u).powf(&M::from_ratio(1, k + 1));
+        let w = M::from_f64(u).powf(&inv_m);
         w.asin() * &M::from_i64(2) / &M::pi()
     };
     let mut us: Vec<f64> = (1..=1074).map(|j| 2f64.powi(-j)).collect();
     us.extend((0..1000).map(|i| (i as f64 + 0.5) / 1000.0));
     us.extend([0.0, 1.0]);
-    for tol in [1e-3, 1e-6, 1e-9, 1e-12] {
+    for &tol in tolerances {
         let (table, m, _) = measure(&derived, &exact, tol, &pts);
-        assert!(m.inverse() <= tol, "tol {tol}: {m:?} {:?}", table.report());
+        assert!(
+            m.inverse() <= tol,
+            "k {k} tol {tol}: {m:?} {:?}",
+            table.report()
+        );
         assert_eq!(m.non_finite, 0);
         let worst = us
             .iter()
@@ -109,11 +112,34 @@ fn tabulated_phong_meets_its_tolerance() {
             m.inverse(),
             table.report()
         );
-        assert!(worst <= tol, "tol {tol}: {worst:e}");
+        assert!(worst <= tol, "k {k} tol {tol}: {worst:e}");
         // The tabulated map is inverted exactly (up to rounding).
         let rt = check_roundtrip::<f64, _>(&table, &extremes_grid()).unwrap();
         assert_eq!(rt.failures, 0, "{rt:?}");
     }
+}
+
+#[test]
+fn tabulated_phong_meets_its_tolerance() {
+    phong_meets_its_tolerance(10.0, &[1e-3, 1e-6, 1e-9, 1e-12]);
+}
+
+/// k = 30 and 100: the power-law panel's nodes reach u ≈ 0.095^m·b, where
+/// the derived F⁻¹ the table is fitted to must keep F's relative accuracy
+/// (the derived marginal's power panel, docs/recipe-quadrature.md §2).
+#[test]
+fn tabulated_phong_steep_meets_its_tolerance() {
+    phong_meets_its_tolerance(30.0, &[1e-3, 1e-6, 1e-9, 1e-12]);
+    phong_meets_its_tolerance(100.0, &[1e-3, 1e-6, 1e-9, 1e-12]);
+}
+
+/// k = 1/2 and 3/2: σw ~ s^k is not smooth at s = 0 (the derived marginal
+/// interpolates σw/s^k there); F⁻¹ ~ u^(2/3) is fitted in u for k = 1/2
+/// (m = 3/2 < 17/8), in u^(2/5) for k = 3/2.
+#[test]
+fn tabulated_phong_fractional_meets_its_tolerance() {
+    phong_meets_its_tolerance(0.5, &[1e-3, 1e-6, 1e-9, 1e-12]);
+    phong_meets_its_tolerance(1.5, &[1e-3, 1e-6, 1e-9, 1e-12]);
 }
 
 /// A hemisphere weighted by e^(2x): a lobe leaning towards +x, whose

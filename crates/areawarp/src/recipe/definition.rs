@@ -49,6 +49,17 @@ pub trait WarpDefinition<T: Real>: AreaDensity<T> + Clone {
     fn extent(&self) -> T {
         T::one()
     }
+    /// The exponent e > 0 with which σw vanishes at s = 0, if known:
+    /// σw(s, t) = s^e·g(s, t), g smooth and positive at s = 0 (a Phong lobe
+    /// of exponent k, in elevation from the horizon: e = k). It must be
+    /// exact (not estimated): the derived marginal then interpolates
+    /// f(s)/s^e on its first panel and holds F relatively accurate at every
+    /// s, however small F(s) (docs/recipe-quadrature.md §2), and the tables
+    /// fit F⁻¹ in u^(1/(e+1)) near u = 0. The default `None` leaves the
+    /// density as it is.
+    fn left_power(&self) -> Option<T> {
+        None
+    }
     /// m = ∫∫σ in closed form, if known.
     fn measure_closed(&self) -> Option<T> {
         None

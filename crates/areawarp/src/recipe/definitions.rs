@@ -82,7 +82,7 @@ fn check<T: Real>(
 }
 
 macro_rules! spherical_definition {
-    ($name:ident, $label:expr, [$($field:ident),*], |$self_:ident, $p:ident| $weight:expr, |$sr:ident| $recast:expr) => {
+    ($name:ident, $label:expr, [$($field:ident),*], |$self_:ident, $p:ident| $weight:expr, |$sr:ident| $recast:expr $(, $($extra:tt)*)?) => {
         impl<T: Real> AreaDensity<T> for $name<T> {
             fn weight(&$self_, $p: &Vec3<T>) -> T {
                 $weight
@@ -98,6 +98,7 @@ macro_rules! spherical_definition {
                 $( let s = format!("{s} {}={}", stringify!($field), self.$field.to_f64()); )*
                 s
             }
+            $($($extra)*)?
         }
     };
 }
@@ -198,7 +199,12 @@ spherical_definition!(
             p.z.powf(&self.k)
         }
     },
-    |self| Phong::new(convert(&self.k))
+    |self| Phong::new(convert(&self.k)),
+    // σ = (π/2)·2π·cos(πs/2), w = sin^k(πs/2): σw = s^k·g(s) with g
+    // positive at s = 0 (0^k at the horizon, 1 for k = 0: no zero).
+    fn left_power(&self) -> Option<T> {
+        (self.k > T::zero()).then(|| self.k.clone())
+    }
 );
 
 /// The unit disk in the plane z = 0, uniform: φ(s, t) = s (cos 2πt,

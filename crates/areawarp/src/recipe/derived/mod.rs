@@ -23,6 +23,7 @@
 mod conditional;
 mod partition;
 mod piecewise;
+mod power;
 
 use conditional::ConditionalGrid;
 use partition::{Settings, adaptive_partition};
@@ -105,6 +106,10 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
     pub fn new(def: P) -> Result<Self, WarpError> {
         let levels = ChebyshevLevels::<T>::new();
         let settings = Settings::<T>::for_type();
+        let marginal_settings = Settings {
+            power: def.left_power().filter(|e| *e > T::zero()),
+            ..settings.clone()
+        };
         let mut probes: Vec<T> = ChebyshevLevel::<T>::new(17)
             .points
             .iter()
@@ -136,7 +141,13 @@ impl<T: Real, P: WarpDefinition<T>> DerivedRecipe<T, P> {
                 }
                 z.value
             };
-            let partition = adaptive_partition(&mut f, &levels, &settings);
+            // A power panel at s = 0 if the definition declares the
+            // exponent; the plain partition if it cannot be resolved.
+            let mut partition = adaptive_partition(&mut f, &levels, &marginal_settings);
+            if !partition.resolved && marginal_settings.power.is_some() {
+                evaluations += partition.evaluations * grid.nodes_total();
+                partition = adaptive_partition(&mut f, &levels, &settings);
+            }
             evaluations += partition.evaluations * grid.nodes_total();
             // The conditional matters only where an s = F⁻¹(y) can land:
             // not inside the unreachable right tail of the marginal.

@@ -2,6 +2,7 @@
 //! non-negative density on [0, 1] is resolved to the type's precision, and
 //! resolved *relative to itself* wherever it matters (see [`Settings`]).
 
+use super::power::{fill_origin, power_mass};
 use crate::real::Real;
 use crate::recipe::chebyshev::{ChebyshevLevel, ChebyshevLevels, LEVELS, TAIL_ULPS, local, tail};
 
@@ -32,6 +33,9 @@ pub(crate) struct PanelFit<T> {
     /// cos^1000 θ, whose condition number is 1000), at a noise plateau below
     /// 2^(−p/2) that doubling the points no longer lowers.
     pub resolved: bool,
+    /// The exponent e of a power panel \[0, b\] (the values and coefficients
+    /// are those of q = f/s^e, see [`super::power`]), or `None`.
+    pub power: Option<T>,
 }
 
 /// The fewest points at which a noise plateau is recognised ([`accept`]).
@@ -59,10 +63,23 @@ pub(crate) fn accept<T: Real>(tail: &T, previous: Option<&T>, n: usize) -> bool 
 }
 
 impl<T: Real> PanelFit<T> {
-    /// ∫_a^b of the interpolant (Clenshaw–Curtis).
+    /// ∫_a^b of the interpolant (Clenshaw–Curtis; on a power panel
+    /// b^m·H(b), [`power_mass`]).
     pub fn integral(&self, levels: &ChebyshevLevels<T>) -> T {
+        if let Some(e) = &self.power {
+            return power_mass(&self.coeffs, &self.b, e);
+        }
         let half = (self.b.clone() - &self.a) / &T::from_i64(2);
         levels.level(self.n).integral(&self.values) * &half
+    }
+
+    /// The largest value of the density on the panel (up to the
+    /// interpolant's error): `scale`, times b^e on a power panel.
+    pub fn density_scale(&self) -> T {
+        match &self.power {
+            Some(e) => self.scale.clone() * &self.b.powf(e),
+            None => self.scale.clone(),
+        }
     }
 }
 
@@ -116,8 +133,48 @@ pub(crate) fn fit_panel<T: Real>(
     a: &T,
     b: &T,
     levels: &ChebyshevLevels<T>,
+    range: (usize, usize),
+    evaluations: &mut usize,
+) -> PanelFit<T> {
+    fit_panel_with(f, a, b, levels, range, evaluations, None)
+}
+
+/// The power panel \[0, b\] of a density f = s^e·q: [`fit_panel`] on
+/// q = f/s^e, its value at s = 0 (0/0) filled from the others
+/// ([`fill_origin`]). Where f or s^e is below `normal` (the smallest
+/// normal number, below which their quotient is noise) q is NaN, which
+/// stops the fit unresolved.
+fn fit_power_panel<T: Real>(
+    f: &mut dyn FnMut(&T) -> T,
+    e: &T,
+    b: &T,
+    normal: &T,
+    levels: &ChebyshevLevels<T>,
+    range: (usize, usize),
+    evaluations: &mut usize,
+) -> PanelFit<T> {
+    let mut q = |s: &T| {
+        if *s > T::zero() {
+            let (fs, se) = (f(s), s.powf(e));
+            if fs < *normal || se < *normal {
+                return T::from_i64(0) / &T::zero();
+            }
+            fs / &se
+        } else {
+            T::zero()
+        }
+    };
+    fit_panel_with(&mut q, &T::zero(), b, levels, range, evaluations, Some(e))
+}
+
+fn fit_panel_with<T: Real>(
+    f: &mut dyn FnMut(&T) -> T,
+    a: &T,
+    b: &T,
+    levels: &ChebyshevLevels<T>,
     (start_n, stop_n): (usize, usize),
     evaluations: &mut usize,
+    power: Option<&T>,
 ) -> PanelFit<T> {
     let half = (b.clone() - a) / &T::from_i64(2);
     let mut values: Vec<T> = Vec::new();
@@ -142,6 +199,22 @@ pub(crate) fn fit_panel<T: Real>(
             })
             .collect();
         values = new_values;
+        if power.is_some() {
+            fill_origin(&mut values);
+            // q not computable at this level's nodes (f or s^e below the
+            // normal range, in f64 for a large e): the previous level, if
+            // it has the 17 points a plateau is recognised from and a tail
+            // below the noise ceiling, is accepted as at a noise plateau
+            // (σw's own rounding: 100u for Phong k = 100).
+            if !values.iter().all(|v| v.is_finite())
+                && let Some(prev) = fit.as_mut()
+                && prev.n >= PLATEAU_MIN_N
+                && prev.tail <= noise_ceiling::<T>()
+            {
+                prev.resolved = true;
+                break;
+            }
+        }
         let (coeffs, scale, floor, tail_now, finite) = interpolant(level, &values, a, b);
         let clean = tail_now <= T::from_i64(TAIL_ULPS) * &T::unit_roundoff();
         let ok = finite && accept(&tail_now, previous.as_ref(), n);
@@ -156,6 +229,7 @@ pub(crate) fn fit_panel<T: Real>(
             floor,
             tail: tail_now,
             resolved: ok,
+            power: power.cloned(),
         });
         if ok {
             // The coarsest nested level that is no worse: still clean, or
@@ -188,6 +262,7 @@ pub(crate) fn fit_panel<T: Real>(
                     floor: fl,
                     tail: t,
                     resolved: true,
+                    power: power.cloned(),
                 });
             }
         }
@@ -218,6 +293,11 @@ pub(crate) struct Settings<T> {
     /// end whose combined mass is bounded by u·∫f/S are not refined for
     /// relative accuracy ([`Partition::tail_start`]).
     pub tail_safety: i64,
+    /// The exponent e of a density f = s^e·q (q smooth and positive) at
+    /// s = 0, if known: the first panel is then a power panel (q
+    /// interpolated, [`super::power`]) and the left tail is refined for
+    /// relative accuracy at every mass ([`adaptive_partition`]).
+    pub power: Option<T>,
 }
 
 impl<T: Real> Settings<T> {
@@ -230,6 +310,7 @@ impl<T: Real> Settings<T> {
             start_n: 17,
             start_panels: 16,
             tail_safety: 16,
+            power: None,
         }
     }
 }
@@ -263,6 +344,9 @@ fn mass_bound<T: Real>(fit: &PanelFit<T>) -> T {
     for c in &fit.coeffs {
         sum += &c.abs();
     }
+    if let Some(e) = &fit.power {
+        sum *= &fit.b.powf(e);
+    }
     sum * &(fit.b.clone() - &fit.a) * &T::from_i64(2)
 }
 
@@ -288,21 +372,71 @@ pub(crate) fn adaptive_partition<T: Real>(
     let count = settings.start_panels;
     let mut coarse_fits = Vec::with_capacity(count as usize);
     let mut coarse = T::zero();
-    for i in 0..count {
+    // The smallest density the left tail is refined for relatively: below
+    // 2^p of the smallest normal number, f's own values lose their
+    // precision (f64, f32; MPFR's exponent range puts it out of reach).
+    let underflow = T::exp2i(T::precision() as i32) / &T::max_value();
+    // The smallest normal number (about): q = f/s^e needs both normal.
+    let normal = T::from_i64(4) / &T::max_value();
+    let mut power = settings.power.clone();
+    let mut i = 0;
+    while i < count {
+        let range = (settings.start_n, usize::MAX);
+        if i == 0
+            && let Some(e) = power.take()
+        {
+            // The power panel [0, b], b the first of 1, 2, 4, 8 starting
+            // widths at whose nodes q is computable (f and s^e above the
+            // underflow level; a wider panel has its smallest nodes
+            // further from 0); none: the plain panels.
+            let mut width = 1;
+            while width <= 8 && width <= count {
+                let b = T::from_ratio(width, count);
+                // From 9 points, so that a noise plateau of q (σw's own
+                // rounding, 100u for k = 100) is recognised at 17 without
+                // the 33 points whose smallest nodes underflow in f64.
+                let from_9 = (LEVELS[1], usize::MAX);
+                let p = fit_power_panel(f, &e, &b, &normal, levels, from_9, &mut evaluations);
+                if p.values.iter().all(|v| v.is_finite() && *v > T::zero()) {
+                    coarse += &p.integral(levels).abs();
+                    coarse_fits.push(p);
+                    power = Some(e);
+                    i = width;
+                    break;
+                }
+                width *= 2;
+            }
+            if power.is_some() {
+                continue;
+            }
+        }
         let a = T::from_ratio(i, count);
         let b = T::from_ratio(i + 1, count);
-        let range = (settings.start_n, usize::MAX);
         let fit = fit_panel(f, &a, &b, levels, range, &mut evaluations);
         coarse += &fit.integral(levels).abs();
         coarse_fits.push(fit);
+        i += 1;
     }
+    // With a power panel, F is relatively accurate on it at any mass, so
+    // the panels between it and the bulk (the left tail, before the first
+    // panel that is not negligible) are refined for relative accuracy too,
+    // down to the underflow level: with the factor 8 where the mass is
+    // above u² of the total, and with 2^(p/8) below it (relative error
+    // about 32u·2^(p/8), 2^−42 in f64, at a fraction of the panels).
+    let left_tail = power.is_some();
+    let deep_ratio = T::exp2i((T::precision() / 8) as i32);
     let coarse_negligible = T::unit_roundoff().square() * &coarse;
     // Pass 1: resolution.
     let mut stack: Vec<PanelFit<T>> = coarse_fits.into_iter().rev().collect();
+    let mut bulk_seen = false;
     while let Some(fit) = stack.pop() {
         let width = fit.b.clone() - &fit.a;
-        let negligible = fit.scale.clone() * &width <= coarse_negligible;
+        let fscale = fit.density_scale();
+        let small = fscale.clone() * &width <= coarse_negligible;
+        let in_tail = left_tail && !bulk_seen && fscale >= underflow;
+        let negligible = small && !in_tail;
         if fit.resolved || negligible || width <= settings.min_width {
+            bulk_seen |= !small;
             fits.push(fit);
         } else {
             let (l, r) = split(f, &fit, levels, &mut evaluations);
@@ -333,17 +467,22 @@ pub(crate) fn adaptive_partition<T: Real>(
     for fit in fits.into_iter().rev() {
         stack.push(fit);
     }
+    let mut bulk_seen = false;
     while let Some(fit) = stack.pop() {
         let width = fit.b.clone() - &fit.a;
         let splittable = width > settings.min_width;
-        let matters = fit.scale.clone() * &width > negligible;
-        let steep =
-            matters && fit.b <= tail_start && fit.scale > settings.ratio.clone() * &fit.floor;
+        let fscale = fit.density_scale();
+        let bulk = fscale.clone() * &width > negligible;
+        let in_tail = left_tail && !bulk_seen && fscale >= underflow;
+        let matters = bulk || in_tail;
+        let ratio = if bulk { &settings.ratio } else { &deep_ratio };
+        let steep = matters && fit.b <= tail_start && fit.scale > ratio.clone() * &fit.floor;
         if splittable && ((matters && !fit.resolved) || steep) {
             let (l, r) = split(f, &fit, levels, &mut evaluations);
             stack.push(r);
             stack.push(l);
         } else {
+            bulk_seen |= bulk;
             if matters {
                 all_resolved &= fit.resolved;
                 if fit.b <= tail_start {
@@ -372,7 +511,11 @@ fn split<T: Real>(
 ) -> (PanelFit<T>, PanelFit<T>) {
     let mid = (fit.a.clone() + &fit.b) / &T::from_i64(2);
     let range = (LEVELS[0], usize::MAX);
-    let l = fit_panel(f, &fit.a, &mid, levels, range, evaluations);
+    let normal = T::from_i64(4) / &T::max_value();
+    let l = match &fit.power {
+        Some(e) => fit_power_panel(f, e, &mid, &normal, levels, range, evaluations),
+        None => fit_panel(f, &fit.a, &mid, levels, range, evaluations),
+    };
     let r = fit_panel(f, &mid, &fit.b, levels, range, evaluations);
     (l, r)
 }

@@ -2,6 +2,7 @@
 //! CDF, complementary CDF and their inversion by the safeguarded [`Newton`].
 
 use super::partition::PanelFit;
+use super::power::PowerPanel;
 use crate::real::Real;
 use crate::recipe::chebyshev::{ChebyshevLevels, clenshaw, integral_coefficients_into, local};
 use crate::recipe::invert::{Cdf1, Inverter, Newton};
@@ -228,6 +229,9 @@ pub(crate) struct PiecewiseDensity<T> {
     /// Total mass and its reciprocal.
     total: T,
     inv_total: T,
+    /// Panel 0 as a power panel (its entries in `density`, `left`, `right`
+    /// then unused), if the partition made one.
+    power: Option<PowerPanel<T>>,
 }
 
 impl<T: Real> PiecewiseDensity<T> {
@@ -237,7 +241,20 @@ impl<T: Real> PiecewiseDensity<T> {
         let mut inv_width = Vec::with_capacity(fits.len());
         let mut density_ends = Vec::with_capacity(fits.len());
         let (mut density, mut left, mut right, mut mass) = (vec![], vec![], vec![], vec![]);
+        let mut power = None;
         for fit in fits {
+            if let Some(e) = &fit.power {
+                let p = PowerPanel::new(&fit.coeffs, &fit.b, e);
+                ends.push(fit.a.clone());
+                inv_width.push(T::one() / &fit.b);
+                density_ends.push([T::zero(), fit.values[0].clone() * &fit.b.powf(e)]);
+                density.push(Vec::new());
+                left.push(Vec::new());
+                right.push(Vec::new());
+                mass.push(p.mass.clone().max(&T::zero()));
+                power = Some(p);
+                continue;
+            }
             ends.push(fit.a.clone());
             inv_width.push(T::one() / &(fit.b.clone() - &fit.a));
             density_ends.push([fit.values[fit.n - 1].clone(), fit.values[0].clone()]);
@@ -278,7 +295,13 @@ impl<T: Real> PiecewiseDensity<T> {
             after,
             total,
             inv_total,
+            power,
         }
+    }
+
+    /// The power panel, if `i` is it.
+    fn power_at(&self, i: usize) -> Option<&PowerPanel<T>> {
+        self.power.as_ref().filter(|_| i == 0)
     }
 
     /// ∫₀¹ of the density.
@@ -327,6 +350,9 @@ impl<T: Real> PiecewiseDensity<T> {
     /// The density, normalized: F'(x).
     pub fn pdf(&self, x: &T) -> T {
         let i = self.locate(x);
+        if let Some(p) = self.power_at(i) {
+            return p.density(x) * &self.inv_total;
+        }
         self.view(i).density_at(x) * &self.inv_total
     }
 
@@ -339,6 +365,14 @@ impl<T: Real> PiecewiseDensity<T> {
             return T::one();
         }
         let i = self.locate(x);
+        if let Some(p) = self.power_at(i) {
+            let from_left = p.left(x) * &self.inv_total;
+            if from_left <= T::from_ratio(1, 2) {
+                return from_left;
+            }
+            let right = self.after[0].clone() + &(p.mass.clone() - &p.left(x));
+            return T::one() - &(right * &self.inv_total);
+        }
         let v = self.view(i);
         let from_left = (self.before[i].clone() + &v.left_at(x)) * &self.inv_total;
         if from_left <= T::from_ratio(1, 2) {
@@ -383,6 +417,9 @@ impl<T: Real> PiecewiseDensity<T> {
             }
             lo
         };
+        if let Some(p) = self.power_at(i) {
+            return p.invert(y, &self.inv_total, &self.total);
+        }
         let masses = Masses {
             before: &self.before[i],
             after: &self.after[i],

@@ -8,8 +8,9 @@
 //!   at the points between the nodes is below tolerance/4. Near an end where
 //!   F⁻¹ behaves like √u (a pole of φ) this refines geometrically; where it
 //!   behaves like u^(1/m) with m > 17/8 (σw ~ s^(m−1), a Phong lobe seen
-//!   from the horizon), the first panel is fitted in w = u^(1/m) instead
-//!   (see `left_exponent` and docs/recipe-quadrature.md §5). A single
+//!   from the horizon), the panels of [0, 1/2] are fitted and bisected in
+//!   w = u^(1/m) instead (see `left_exponent` and
+//!   docs/recipe-quadrature.md §5). A single
 //!   panel of degree 3 is the Vandermonde cubic of
 //!   [`VandermondeCubic`](super::VandermondeCubic).
 //! * G⁻¹(s, v): G_s depends on s, so the table is two-dimensional:
@@ -248,7 +249,14 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
 /// w^(1+δ) in w, which the fit does not see for the δ ~ s⁴ this leaves. A
 /// density that is not a power law at 0 (the last two local exponents
 /// differ by more than 1/64 of m) keeps the plain fit.
+///
+/// A definition that declares its exponent e ([`WarpDefinition::left_power`])
+/// gives m = e + 1 exactly.
 fn left_exponent<T: Real, P: WarpDefinition<T>>(recipe: &DerivedRecipe<T, P>) -> Option<T> {
+    if let Some(e) = recipe.definition().left_power() {
+        let m = e + &T::one();
+        return (m > T::from_ratio(17, 8)).then_some(m);
+    }
     let two = T::from_i64(2);
     let ln2 = two.ln();
     let floor = T::exp2i(T::precision() as i32) / &T::max_value();

@@ -1,6 +1,6 @@
 //! A monotone function [0, 1] → [0, 1] (the inverse marginal F⁻¹) as
-//! polynomials of a fixed degree on adaptively bisected panels; the first
-//! panel optionally in w = u^(1/m), where F⁻¹ ~ c·u^(1/m) at u = 0.
+//! polynomials of a fixed degree on adaptively bisected panels; the panels
+//! of [0, 1/2] optionally in w = u^(1/m), where F⁻¹ ~ c·u^(1/m) at u = 0.
 
 use super::poly::{Basis, horner, interpolate_distinct};
 use crate::error::WarpError;
@@ -23,19 +23,25 @@ pub(crate) struct Table1<T> {
     mono: Vec<T>,
     /// guide\[c\] = the panel containing c/G, for c = 0 … G.
     guide: Vec<usize>,
-    /// The first panel's variable w = u^(1/m), if F⁻¹ is fitted in it there.
+    /// The variable w = u^(1/m) of the panels of \[0, 1/2\], if F⁻¹ is
+    /// fitted in it there.
     power: Option<Power<T>>,
 }
 
-/// The variable of the first panel \[0, b\]: w = u^(1/m) ∈ \[0, b^(1/m)\],
-/// in which F⁻¹(u) = h(w) is smooth when F(s) ~ C·s^m at s = 0.
+/// The variable of the panels of \[0, 1/2\]: w = u^(1/m), in which
+/// F⁻¹(u) = h(w) is smooth when F(s) ~ C·s^m at s = 0. They are bisected in
+/// w (a bisection in u would leave the first panel's w-range \[0, b^(1/m)\]
+/// nearly as wide for a large m: b = 2⁻¹⁷⁰ is w = 0.31 for m = 101).
 #[derive(Clone, Debug)]
 struct Power<T> {
     m: T,
     inv_m: T,
-    /// b^(1/m), the first panel's end in w.
-    w_end: T,
+    /// The panel ends in w of the first `ends.len() − 1` panels.
+    ends: Vec<T>,
 }
+
+/// A panel to fit: its ends in u and, for a panel fitted in w, in w.
+type Pending<T> = (T, T, Option<(T, T)>);
 
 /// What fitting a table reports.
 #[derive(Clone, Copy, Debug, Default)]
@@ -50,8 +56,8 @@ pub(crate) struct FitStats {
 impl<T: Real> Table1<T> {
     /// Fits `f` (monotone, [0,1] → [0,1]) to absolute error `tol`/4 at the
     /// check points of every panel, bisecting down to width `min_width`.
-    /// With `power` = m, the panel starting at u = 0 is fitted in w =
-    /// u^(1/m) (see [`Power`]).
+    /// With `power` = m, the panels of [0, 1/2] are fitted in, and bisected
+    /// in, w = u^(1/m) (see [`Power`]).
     pub fn fit(
         f: &mut dyn FnMut(&T) -> T,
         degree: usize,
@@ -67,28 +73,44 @@ impl<T: Real> Table1<T> {
         let mut mono = Vec::new();
         let mut inv_width = Vec::new();
         let mut worst = T::zero();
-        let mut stack = vec![(T::zero(), T::one())];
         let two = T::from_i64(2);
-        let mut first: Option<Power<T>> = None;
-        while let Some((a, b)) = stack.pop() {
-            // The panel's variable x: u, or w = u^(1/m) on [0, b].
-            let pw = power.filter(|_| a == T::zero()).map(|m| Power {
-                m: m.clone(),
-                inv_m: T::one() / m,
-                w_end: b.powf(&(T::one() / m)),
-            });
+        let half_u = T::from_ratio(1, 2);
+        let inv_m = power.map(|m| T::one() / m);
+        // (a, b, the ends in w of a panel of [0, 1/2] fitted in w).
+        let mut stack: Vec<Pending<T>> = match &inv_m {
+            Some(im) => vec![
+                (half_u.clone(), T::one(), None),
+                (
+                    T::zero(),
+                    half_u.clone(),
+                    Some((T::zero(), half_u.powf(im))),
+                ),
+            ],
+            None => vec![(T::zero(), T::one(), None)],
+        };
+        let mut w_ends = vec![T::zero()];
+        while let Some((a, b, wr)) = stack.pop() {
+            // The panel's variable x: u, or w = u^(1/m).
+            let pw = wr
+                .as_ref()
+                .zip(power)
+                .map(|(_, m)| (m.clone(), T::one() / m));
             let var = |u: &T| -> T {
                 match &pw {
-                    Some(p) => u.powf(&p.inv_m),
+                    Some((_, im)) => u.powf(im),
                     None => u.clone(),
                 }
             };
-            let (xa, xb) = match &pw {
-                Some(p) => (T::zero(), p.w_end.clone()),
+            let (xa, xb) = match &wr {
+                Some((wa, wb)) => (wa.clone(), wb.clone()),
                 None => (a.clone(), b.clone()),
             };
             let half = (xb.clone() - &xa) / &two;
-            let mid = (a.clone() + &b) / &two;
+            let x_mid = (xa.clone() + &xb) / &two;
+            let mid = match &pw {
+                Some((m, _)) => x_mid.powf(m),
+                None => x_mid.clone(),
+            };
             // The u of the local coordinate ξ (the ends exactly a and b).
             let at = |xi: &T| -> T {
                 let x = if *xi >= T::zero() {
@@ -99,7 +121,7 @@ impl<T: Real> Table1<T> {
                 match &pw {
                     _ if *xi == T::one() => b.clone(),
                     _ if *xi == -T::one() => a.clone(),
-                    Some(p) => x.powf(&p.m).clamp(&a, &b),
+                    Some((m, _)) => x.powf(m).clamp(&a, &b),
                     None => x,
                 }
             };
@@ -120,10 +142,14 @@ impl<T: Real> Table1<T> {
                 let approx = horner(&m, &local(&var(&u), &xa, &xb, &iw));
                 err = err.max(&(approx - &exact).abs());
             }
-            let splittable = b.clone() - &a > *min_width && mid > a && mid < b;
+            let splittable = xb.clone() - &xa > *min_width && mid > a && mid < b;
             if !(err <= target) && splittable {
-                stack.push((mid.clone(), b.clone()));
-                stack.push((a, mid));
+                let (right, left) = match &wr {
+                    Some(_) => (Some((x_mid.clone(), xb.clone())), Some((xa.clone(), x_mid))),
+                    None => (None, None),
+                };
+                stack.push((mid.clone(), b.clone(), right));
+                stack.push((a, mid, left));
                 continue;
             }
             if !(err <= target) {
@@ -132,7 +158,7 @@ impl<T: Real> Table1<T> {
                 });
             }
             if pw.is_some() {
-                first = pw;
+                w_ends.push(xb.clone());
             }
             worst = worst.max(&err);
             breaks.push(b.clone());
@@ -143,7 +169,11 @@ impl<T: Real> Table1<T> {
         stats.panels = inv_width.len();
         stats.estimated_error = worst.to_f64();
         let mut table = Table1::assemble(degree, breaks, inv_width, values, mono);
-        table.power = first;
+        table.power = power.zip(inv_m).map(|(m, im)| Power {
+            m: m.clone(),
+            inv_m: im,
+            ends: w_ends,
+        });
         Ok((table, stats))
     }
 
@@ -216,7 +246,7 @@ impl<T: Real> Table1<T> {
 
     /// The power variable of panel `i`, if it has one.
     fn power_of(&self, i: usize) -> Option<&Power<T>> {
-        self.power.as_ref().filter(|_| i == 0)
+        self.power.as_ref().filter(|p| i + 1 < p.ends.len())
     }
 
     /// Panel `i`'s variable at `u`: u, or w = u^(1/m).
@@ -230,7 +260,7 @@ impl<T: Real> Table1<T> {
     /// Panel `i`'s ends in its variable.
     fn var_bounds(&self, i: usize) -> (T, T) {
         match self.power_of(i) {
-            Some(p) => (T::zero(), p.w_end.clone()),
+            Some(p) => (p.ends[i].clone(), p.ends[i + 1].clone()),
             None => (self.breaks[i].clone(), self.breaks[i + 1].clone()),
         }
     }
@@ -271,7 +301,7 @@ impl<T: Real> Table1<T> {
         let x0 = a.clone() + &(frac * &(b.clone() - &a));
         let x = Newton::default().solve_in(&piece, s, x0, a, b).x;
         match self.power_of(lo) {
-            Some(p) => x.powf(&p.m).clamp(&self.breaks[0], &self.breaks[1]),
+            Some(p) => x.powf(&p.m).clamp(&self.breaks[lo], &self.breaks[lo + 1]),
             None => x,
         }
     }
@@ -289,7 +319,7 @@ impl<T: Real> Table1<T> {
             power: self.power.as_ref().map(|p| Power {
                 m: convert(&p.m),
                 inv_m: convert(&p.inv_m),
-                w_end: convert(&p.w_end),
+                ends: p.ends.iter().map(convert::<T, S>).collect(),
             }),
         }
     }
