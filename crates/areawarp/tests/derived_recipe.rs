@@ -225,6 +225,20 @@ fn derived_beckmann_jacobians_at_256_bits() {
 }
 
 #[test]
+#[ignore = "256-bit Jacobians of the Phong lobes served by the power panel at s = 0"]
+fn derived_phong_power_jacobians_at_256_bits() {
+    header();
+    for k in [0.5, 1.5, 30.0, 100.0] {
+        check(
+            &format!("Phong k = {k}"),
+            Phong::new(k).unwrap(),
+            shapes::PhongLobe::new(k).unwrap(),
+            true,
+        );
+    }
+}
+
+#[test]
 #[ignore = "256-bit Jacobians of the derived von Mises–Fisher distributions"]
 fn derived_vmf_jacobians_at_256_bits() {
     header();
