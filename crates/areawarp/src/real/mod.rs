@@ -108,6 +108,12 @@ pub trait Real:
     }
     /// Largest finite value.
     fn max_value() -> Self;
+    /// `4 / max_value()`: about the smallest normal number (2^(emin + 1)
+    /// for IEEE types), the floor under which products and quotients of
+    /// small terms may turn subnormal.
+    fn normal_floor() -> Self {
+        Self::from_i64(4) / &Self::max_value()
+    }
 
     /// `true` if neither infinite nor NaN.
     fn is_finite(&self) -> bool;

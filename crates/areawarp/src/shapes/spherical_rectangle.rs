@@ -609,7 +609,7 @@ mod range {
 /// non-zero at the nearest and farthest points of the rectangle.
 #[inline(always)]
 fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpError> {
-    let tiny = T::from_i64(4) / &T::max_value();
+    let tiny = T::normal_floor();
     let floor = tiny / &T::unit_roundoff();
     if !(g.h.square() >= floor) {
         return Err(range::GRAZING);

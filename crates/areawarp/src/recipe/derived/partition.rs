@@ -377,7 +377,7 @@ pub(crate) fn adaptive_partition<T: Real>(
     // precision (f64, f32; MPFR's exponent range puts it out of reach).
     let underflow = T::exp2i(T::precision() as i32) / &T::max_value();
     // The smallest normal number (about): q = f/s^e needs both normal.
-    let normal = T::from_i64(4) / &T::max_value();
+    let normal = T::normal_floor();
     let mut power = settings.power.clone();
     let mut i = 0;
     while i < count {
@@ -511,7 +511,7 @@ fn split<T: Real>(
 ) -> (PanelFit<T>, PanelFit<T>) {
     let mid = (fit.a.clone() + &fit.b) / &T::from_i64(2);
     let range = (LEVELS[0], usize::MAX);
-    let normal = T::from_i64(4) / &T::max_value();
+    let normal = T::normal_floor();
     let l = match &fit.power {
         Some(e) => fit_power_panel(f, e, &mid, &normal, levels, range, evaluations),
         None => fit_panel(f, &fit.a, &mid, levels, range, evaluations),

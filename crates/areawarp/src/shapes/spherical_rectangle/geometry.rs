@@ -355,7 +355,7 @@ pub(super) fn area_density_in_range<T: Real>(
     let max = T::max_value().widen();
     let tiny = W::<T>::from_i64(4) / &max;
     // The same floor in the wide type, for its intermediate results.
-    let tiny_w = W::<T>::from_i64(4) / &W::<T>::max_value();
+    let tiny_w = W::<T>::normal_floor();
     let h2 = h.square();
     // Ω r³ ≥ Ω h³ stays normal, and h/(Ω r³) ≤ 2/(Ω h³) finite.
     let no_underflow = omega.clone() * &h2 * h >= W::<T>::from_i64(64) * &tiny_w;
