@@ -198,12 +198,19 @@ pub(crate) fn invert_in_panel<T: Real>(view: PanelView<'_, T>, masses: &Masses<'
             .solve_in(&left, y, x0, view.a.clone(), view.b.clone())
             .x
     };
+    stated_root(&left, y, value)
+}
+
+/// The root `value` of `cdf(s) = y` with its derivative stated (see
+/// [`invert_in_panel`], "Derivatives"): s_r + (y − y_r − (F(s_r) −
+/// F(s_r)_r)) / F'(s_r)_r; `value` itself where F'(s_r) is 0 or not finite.
+pub(crate) fn stated_root<T: Real, C: Cdf1<T>>(cdf: &C, y: &T, value: T) -> T {
     let s = value.detached();
-    let d = left.pdf(&s);
+    let d = cdf.pdf(&s);
     if !(d > T::zero()) || !d.is_finite() {
         return value;
     }
-    let f = left.cdf(&s);
+    let f = cdf.cdf(&s);
     let moved = (y.clone() - &y.detached()) - &(f.clone() - &f.detached());
     s + &(moved / &d.detached())
 }
@@ -366,11 +373,12 @@ impl<T: Real> PiecewiseDensity<T> {
         }
         let i = self.locate(x);
         if let Some(p) = self.power_at(i) {
-            let from_left = p.left(x) * &self.inv_total;
+            let left = p.left(x);
+            let from_left = left.clone() * &self.inv_total;
             if from_left <= T::from_ratio(1, 2) {
                 return from_left;
             }
-            let right = self.after[0].clone() + &(p.mass.clone() - &p.left(x));
+            let right = self.after[0].clone() + &(p.mass.clone() - &left);
             return T::one() - &(right * &self.inv_total);
         }
         let v = self.view(i);

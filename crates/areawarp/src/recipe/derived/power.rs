@@ -11,6 +11,7 @@
 //! accuracy of H at every s > 0, however small F(s) is: no cancellation, no
 //! floor. See docs/recipe-quadrature.md §2.
 
+use super::piecewise::stated_root;
 use crate::real::Real;
 use crate::recipe::chebyshev::{clenshaw, local};
 use crate::recipe::invert::{Cdf1, Inverter, Newton};
@@ -193,14 +194,7 @@ impl<T: Real> PowerPanel<T> {
             }
         }
         let value = newton.solve_in(&cdf, y, s, T::zero(), self.b.clone()).x;
-        let s = value.detached();
-        let d = cdf.pdf(&s);
-        if !(d > T::zero()) || !d.is_finite() {
-            return value;
-        }
-        let f = cdf.cdf(&s);
-        let moved = (y.clone() - &y.detached()) - &(f.clone() - &f.detached());
-        s + &(moved / &d.detached())
+        stated_root(&cdf, y, value)
     }
 }
 
