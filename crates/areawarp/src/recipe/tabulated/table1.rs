@@ -93,8 +93,8 @@ impl<T: Real> Table1<T> {
             // The panel's variable x: u, or w = u^(1/m).
             let pw = wr
                 .as_ref()
-                .zip(power)
-                .map(|(_, m)| (m.clone(), T::one() / m));
+                .zip(power.zip(inv_m.as_ref()))
+                .map(|(_, (m, im))| (m.clone(), im.clone()));
             let var = |u: &T| -> T {
                 match &pw {
                     Some((_, im)) => u.powf(im),
