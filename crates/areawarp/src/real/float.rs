@@ -217,6 +217,11 @@ macro_rules! impl_real_for_float {
                 $t::max(*self, *other)
             }
             #[inline]
+            fn clamp(&self, lo: &Self, hi: &Self) -> Self {
+                // Branch-free: `max` returns `lo` for a NaN `self`.
+                $t::min($t::max(*self, *lo), *hi)
+            }
+            #[inline]
             fn square(&self) -> Self {
                 *self * *self
             }
@@ -226,3 +231,44 @@ macro_rules! impl_real_for_float {
 
 impl_real_for_float!(f32, 24, u32, rotate: super::quarter_turns::rotate_f32);
 impl_real_for_float!(f64, 53, u64, rotate: super::quarter_turns::rotate_f64);
+
+#[cfg(test)]
+mod tests {
+    use crate::real::Real;
+
+    /// The branch-free `clamp` of `f32`/`f64` agrees with the trait's
+    /// default (NaN to `lo`, infinities to the bounds; the sign of a zero
+    /// may differ).
+    #[test]
+    fn float_clamp_matches_the_default() {
+        fn default_clamp(x: f64, lo: f64, hi: f64) -> f64 {
+            if x.is_nan() || x < lo {
+                lo
+            } else if x > hi {
+                hi
+            } else {
+                x
+            }
+        }
+        let xs = [
+            f64::NAN,
+            f64::NEG_INFINITY,
+            -1.0,
+            -0.0,
+            0.0,
+            f64::from_bits(1),
+            0.5,
+            1.0 - f64::EPSILON / 2.0,
+            1.0,
+            1.5,
+            f64::INFINITY,
+        ];
+        for x in xs {
+            let want = default_clamp(x, 0.0, 1.0);
+            let got = Real::clamp(&x, &0.0, &1.0);
+            assert_eq!(got, want, "f64 {x}");
+            let got32 = Real::clamp(&(x as f32), &0.0, &1.0);
+            assert_eq!(got32, want as f32, "f32 {x}");
+        }
+    }
+}
