@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | cosine hemisphere | `PhongLobe::new(1)`: z = √u, sin θ = √(1 − u), φ = 2πv | concentric disk + Malley: z = √(max(0, 1 − x² − y²)) |
 //! | uniform sphere | `Sphere::new()`: z = 1 − 2u, sin θ = 2√(u(1 − u)) | z = 1 − 2u, r = √(max(0, 1 − z²)), φ = 2πv |
-//! | planar triangle | `PlanarTriangle`: √u barycentrics from the heaviest vertex | b₀ = 1 − √u, b₁ = v√u, p = b₀p₀ + b₁p₁ + (1 − b₀ − b₁)p₂ |
+//! | planar triangle | `PlanarTriangle`: √u barycentrics anchored at A (B or C on u = 1) | b₀ = 1 − √u, b₁ = v√u, p = b₀p₀ + b₁p₁ + (1 − b₀ − b₁)p₂ |
 //! | concentric disk | `ConcentricDisk` | Shirley–Chiu, θ = π/4·(b/a) or π/2 − π/4·(a/b) |
 //!
 //! Each measurement samples a fixed batch of 4096 `(u, v)` points (edges

@@ -64,8 +64,8 @@ impl core::str::FromStr for PlanarTriangleVariant {
 
 /// The fold map: barycentric weights as in [`PlanarTriangleVariant::Fold`],
 /// the point as `A + (λ_B (B − A) + λ_C (C − A))` with the edge vectors
-/// precomputed. Anchoring at A always (rather than at the vertex of
-/// largest weight, as the √u map does) and writing both halves as
+/// precomputed. Anchoring at A always (the √u map switches to B or C on
+/// its side u = 1) and writing both halves as
 /// `λ_B = u − min(u, v)/2`, `λ_C = v − min(u, v)/2` keep the map free of
 /// data-dependent branches; the absolute error stays within
 /// a few units of roundoff of the triangle's extent, and A is reproduced

@@ -328,3 +328,50 @@ proptest! {
         prop_assert!(u.sqrt() * (v - v2).abs() <= tol, "v {} -> {}", v, v2);
     }
 }
+
+#[cfg(feature = "mpfr")]
+#[test]
+/// The map's error against 256 bits over 200 random triangles × 200 random
+/// `(u, v)`, in units of `u·extent`: unit-size triangles at the origin and
+/// triangles of size 10⁻³ around (1000, 1000, 1000). Prints the maximum and
+/// mean (`docs/planar-triangle.md` quotes them):
+/// `cargo test --release -p areawarp --features mpfr --lib -- f64_map_error_survey --nocapture`
+fn f64_map_error_survey() {
+    use crate::real::Mpfr256;
+    let mut state: u64 = 12345;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let ur = f64::EPSILON / 2.0;
+    for (scale, off) in [(1.0, 0.0), (1e-3, 1000.0)] {
+        let (mut worst, mut sum, mut n) = (0.0f64, 0.0, 0u32);
+        for _ in 0..200 {
+            let mut p = || {
+                [
+                    off + scale * (next() - 0.5),
+                    off + scale * (next() - 0.5),
+                    off + scale * (next() - 0.5),
+                ]
+            };
+            let (a, b, c) = (p(), p(), p());
+            let Ok(t) = tri(a, b, c) else { continue };
+            let t256 = t.at::<Mpfr256>().unwrap();
+            for _ in 0..200 {
+                let (u, v) = (next(), next());
+                let p = t.map(&u, &v);
+                let q = t256.map(&Mpfr256::from_f64(u), &Mpfr256::from_f64(v));
+                let q = Vec3::new(q.x.to_f64(), q.y.to_f64(), q.z.to_f64());
+                let err = p.sub(&q).norm() / (ur * t.extent());
+                worst = worst.max(err);
+                sum += err;
+                n += 1;
+            }
+        }
+        let mean = sum / f64::from(n);
+        println!("size {scale:e} at {off}: max {worst:.2} mean {mean:.3} ({n} samples)");
+        assert!(worst <= 4.0 && mean <= 1.0, "{worst} {mean}");
+    }
+}
