@@ -11,6 +11,10 @@
 //!   (`sample_once`, no shape kept);
 //! - `solid-angle`: the one-shot solid angle (the pdf is `1/Ω`) per shading
 //!   point, no shape built;
+//! - `solid-angle-textbook` (triangle): the same solid angle as renderers
+//!   write it, unvalidated Van Oosterom–Strackee in `T` (pbrt-v4's formula),
+//!   the parity reference for `solid-angle`
+//!   (`python3 scripts/criterion-ratios triangle/f solid-angle-textbook`);
 //! - `build`: the full constructor per shading point, for reference.
 //!
 //! ```text
@@ -41,6 +45,17 @@ fn narrow(v: &Vec3<f64>) -> Vec3<f32> {
     Vec3::new(v.x as f32, v.y as f32, v.z as f32)
 }
 
+/// The solid angle as a renderer writes it without validation (pbrt-v4's
+/// `SphericalTriangleArea` after normalizing the directions; our own code):
+/// Van Oosterom–Strackee in `T`, `|2 atan2(a·(b × c), 1 + a·b + a·c + b·c)|`.
+#[inline]
+fn textbook_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
+    let unit = |v: &Vec3<T>| v.scale(&(T::one() / &v.dot(v).sqrt()));
+    let (a, b, c) = (unit(a), unit(b), unit(c));
+    let den = T::one() + &a.dot(&b) + &a.dot(&c) + &b.dot(&c);
+    (a.dot(&b.cross(&c)).atan2(&den) * &T::from_i64(2)).abs()
+}
+
 fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
     let uv = batch::<T>();
     let shapes = triangles::<T>();
@@ -61,6 +76,14 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
                 let omega =
                     SphericalTriangle::solid_angle_of(&a.sub(o), &b.sub(o), &c.sub(o)).unwrap();
                 acc + &omega
+            })
+        })
+    });
+    g.bench_function("solid-angle-textbook", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [a, b, c, o]| {
+                let o = black_box(o);
+                acc + &textbook_solid_angle(&a.sub(o), &b.sub(o), &c.sub(o))
             })
         })
     });
