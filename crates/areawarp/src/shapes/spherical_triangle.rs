@@ -503,8 +503,7 @@ impl<T: Real> SphericalTriangle<T> {
     /// As [`SphericalTriangle::new`], except that the range of the map's
     /// per-sample constants is not checked.
     pub fn solid_angle_of(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> Result<T, WarpError> {
-        let core = build::core_of(a, b, c)?;
-        Ok(build::omega_in::<T>(&core)?.0)
+        build::solid_angle_of(a, b, c)
     }
 
     /// The same triangle evaluated with `variant`.

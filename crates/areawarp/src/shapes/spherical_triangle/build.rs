@@ -114,22 +114,40 @@ pub(super) struct Core<W> {
     pub omega: W,
 }
 
-impl<W: Real> Core<W> {
+/// The triangle validated, with its solid angle: what
+/// [`SphericalTriangle::solid_angle_of`](super::SphericalTriangle::solid_angle_of)
+/// needs, and the first half of [`Core::new`].
+pub(super) struct Validated<W> {
+    a: Vec3<W>,
+    b: Vec3<W>,
+    c: Vec3<W>,
+    ab: Vec3<W>,
+    bc: Vec3<W>,
+    ca: Vec3<W>,
+    s_ca: Vec3<W>,
+    q_ca: W,
+    p_ca: W,
+    k1a: W,
+    /// det(A, B, C) (its sign the orientation, its magnitude d's numerator).
+    det: W,
+    /// Ω (Van Oosterom–Strackee).
+    pub omega: W,
+}
+
+impl<W: Real> Validated<W> {
     /// Validates the (finite) vertex directions `a`, `b`, `c` and computes
-    /// the shared constants.
+    /// the solid angle.
     #[inline(always)]
     pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
         let a = unit_vector(a).ok_or(reject::ZERO_VERTEX)?;
         let b = unit_vector(b).ok_or(reject::ZERO_VERTEX)?;
         let c = unit_vector(c).ok_or(reject::ZERO_VERTEX)?;
-        let zero = W::zero();
         let two = W::from_i64(2);
-
         let ab = b.sub(&a);
         let bc = c.sub(&b);
         let ca = a.sub(&c);
         let (q_ab, q_bc, q_ca) = (norm2(&ab), norm2(&bc), norm2(&ca));
-        if q_ab == zero || q_bc == zero || q_ca == zero {
+        if q_ab == W::zero() || q_bc == W::zero() || q_ca == W::zero() {
             return Err(reject::COINCIDENT);
         }
         // det(A, B, C) = V·(e₁ × e₂) from the vertex V opposite the longest
@@ -183,16 +201,53 @@ impl<W: Real> Core<W> {
             return Err(reject::ANTIPODAL);
         }
         let den = q_sum / &two + &third.dot(&sum);
-        let ccw = det > zero;
+        let omega = det.abs().atan2(&den) * &two;
+        if !positive(&omega) {
+            return Err(reject::UNDERFLOW);
+        }
+        Ok(Validated {
+            a,
+            b,
+            c,
+            ab,
+            bc,
+            ca,
+            s_ca,
+            q_ca,
+            p_ca,
+            k1a,
+            det,
+            omega,
+        })
+    }
+}
+
+impl<W: Real> Core<W> {
+    /// Validates the (finite) vertex directions `a`, `b`, `c` and computes
+    /// the shared constants.
+    #[inline(always)]
+    pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
+        let Validated {
+            a,
+            b,
+            c,
+            ab,
+            bc,
+            ca,
+            s_ca,
+            q_ca,
+            p_ca,
+            k1a,
+            det,
+            omega,
+        } = Validated::new(a, b, c)?;
+        let ccw = det > W::zero();
         let abs_det = det.abs();
-        // Ω first: the arc's tangent below runs while atan2 computes (on
-        // the one-shot path nothing else hides atan2's latency).
-        let omega = abs_det.atan2(&den) * &two;
         let (c_perp, sin_b) =
             tangent(&a, (&ca.neg(), &q_ca), (&s_ca, &p_ca)).ok_or(reject::ANTIPODAL)?;
-        let d = abs_det.clone() / &sin_b;
+        let d = abs_det / &sin_b;
         let ka = ab.dot(&c_perp);
-        if !positive(&omega) || !positive(&d) || !d.is_finite() {
+        if !positive(&d) || !d.is_finite() {
             return Err(reject::UNDERFLOW);
         }
         let sign = if ccw { W::one() } else { -W::one() };
@@ -342,6 +397,22 @@ pub(super) fn omega_in<T: Real>(core: &Core<T::Wide>) -> Result<(T, T), WarpErro
     Ok((omega, inv_omega))
 }
 
+/// The vertex directions `a`, `b`, `c` given in `T`, checked finite and
+/// widened.
+#[inline(always)]
+fn wide_directions<T: Real>(
+    a: &Vec3<T>,
+    b: &Vec3<T>,
+    c: &Vec3<T>,
+) -> Result<[Vec3<T::Wide>; 3], WarpError> {
+    for (v, what) in [(a, "vertex A"), (b, "vertex B"), (c, "vertex C")] {
+        if !v.is_finite() {
+            return Err(WarpError::NonFinite { what });
+        }
+    }
+    Ok([widen3(a), widen3(b), widen3(c)])
+}
+
 /// The validated core of the triangle with the (finite) vertex directions
 /// `a`, `b`, `c` given in `T`.
 #[inline(always)]
@@ -350,10 +421,26 @@ pub(super) fn core_of<T: Real>(
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<Core<T::Wide>, WarpError> {
-    for (v, what) in [(a, "vertex A"), (b, "vertex B"), (c, "vertex C")] {
-        if !v.is_finite() {
-            return Err(WarpError::NonFinite { what });
-        }
+    let [a, b, c] = wide_directions(a, b, c)?;
+    Core::new(&a, &b, &c)
+}
+
+/// The solid angle Ω of the triangle with the vertex directions `a`, `b`,
+/// `c` given in `T`, validated as [`core_of`] validates (the constants
+/// that only the map needs are not computed: once validation has passed,
+/// they cannot fail), rounded to `T`.
+#[inline(always)]
+pub(super) fn solid_angle_of<T: Real>(
+    a: &Vec3<T>,
+    b: &Vec3<T>,
+    c: &Vec3<T>,
+) -> Result<T, WarpError> {
+    let [a, b, c] = wide_directions(a, b, c)?;
+    let omega = Validated::new(&a, &b, &c)?.omega;
+    let narrow = T::narrow(&omega);
+    let inv = T::narrow(&(<T::Wide as Real>::one() / &omega));
+    if !positive(&narrow) || !positive(&inv) || !inv.is_finite() {
+        return Err(reject::OUT_OF_RANGE);
     }
-    Core::new(&widen3(a), &widen3(b), &widen3(c))
+    Ok(narrow)
 }
