@@ -4,6 +4,7 @@
 //! marginal inversion: `docs/projected-polygon.md`.
 
 mod build;
+mod coincident;
 mod geometry;
 mod lune;
 mod narrow;
@@ -13,6 +14,7 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
+use self::coincident::coincidence_scale;
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{ActiveLune, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
@@ -323,7 +325,13 @@ impl<T: Real> ProjectedPolygon<T> {
         // two consecutive unit vertices round together in f32. For a
         // narrower T the clipping, the partition and every constant are
         // computed in the wide type too and rounded (`narrow.rs`).
-        let (vertices_w, solid_angle_w) = prepare(local.iter().map(widen3))?;
+        // A vertex whose direction coincides with its predecessor's is
+        // dropped (`coincident.rs`), decided on the input values.
+        let (vertices_w, solid_angle_w) = prepare(
+            local.iter().map(widen3),
+            &coincidence_scale::<T>(),
+            |i, j| source.same_direction(i, j),
+        )?;
         let built = if T::precision() < <T::Wide as Real>::precision() {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
