@@ -2,16 +2,20 @@
 //! having *coincident vertices* or *zero projected solid angle* really
 //! degenerate? (Issue 10: "rejecting a valid input is a failure".)
 //!
-//! Each `f64` rejection of the fuzz polygons (`support/polygon_cases.rs`)
-//! with one of these reasons is judged on the input values in high
-//! precision: two consecutive vertex directions coincide exactly when their
-//! cross product is the zero vector and their dot product is positive
-//! (1024 bits: exact for `f64` input, also for points minus an observer);
+//! Each rejection of the fuzz polygons (`support/polygon_cases.rs`) with
+//! one of these reasons is judged on the input values in high precision:
+//! two consecutive vertex directions coincide exactly when their cross
+//! product is the zero vector and their dot product is positive (1024 bits:
+//! exact for `f64` and `f32` input, also for points minus an observer);
 //! the projected solid angle is Lambert's sum over the polygon clipped to
 //! the receiver's hemisphere, at 256 bits. The counts are printed (a
-//! survey), and two findings are asserted: a pair rejected as coincident
-//! that is not exactly coincident is closer than 10⁻¹⁵ rad (below what `f64`
-//! unit vectors resolve), and a polygon rejected for zero projected solid
+//! survey), and two findings are asserted. The constructor drops a vertex
+//! that coincides with its predecessor and rejects as "coincident" only a
+//! polygon left with fewer than 3 distinct directions: each such rejection
+//! (`f64` and `f32`) has fewer than 3 directions once those coinciding
+//! exactly or closer than 10⁻¹⁵ rad (below what `f64` unit vectors
+//! resolve) are merged; the counts of distinct directions are printed.
+//! And an `f64` polygon rejected for zero projected solid
 //! angle whose exact Π is positive lies below the constructor's documented
 //! threshold 64 u Σ|n_z||Δφ| (direction input).
 //!
@@ -38,33 +42,46 @@ type X = Mpfr<1024>;
 type P = Mpfr<256>;
 
 /// Vertex directions (world frame, unnormalized) and the receiver normal,
-/// from the `f64` input values, exactly.
-fn directions(case: &PolygonCase) -> (Vec<Vec3<X>>, Vec3<X>) {
-    let raw: Vec<Vec3<X>> = case
-        .vertices
-        .iter()
-        .map(|p| v3::<f64>(p).convert())
-        .collect();
+/// from the input values rounded to `T`, exactly.
+fn directions<T: Real>(case: &PolygonCase) -> (Vec<Vec3<X>>, Vec3<X>) {
+    let raw: Vec<Vec3<X>> = case.vertices.iter().map(|p| v3::<T>(p).convert()).collect();
     match &case.seen_from {
         None => (raw, Vec3::new(X::zero(), X::zero(), X::one())),
         Some((o, n)) => {
-            let o: Vec3<X> = v3::<f64>(o).convert();
+            let o: Vec3<X> = v3::<T>(o).convert();
             (
                 raw.iter().map(|p| p.sub(&o)).collect(),
-                v3::<f64>(n).convert(),
+                v3::<T>(n).convert(),
             )
         }
     }
 }
 
-/// Whether two consecutive directions coincide exactly.
-fn coincident_pair(v: &[Vec3<X>]) -> bool {
-    let k = v.len();
-    (0..k).any(|i| {
-        let (a, b) = (&v[i], &v[(i + 1) % k]);
-        let c = a.cross(b);
-        c.x == X::zero() && c.y == X::zero() && c.z == X::zero() && a.dot(b) > X::zero()
-    })
+/// Whether two directions coincide exactly (`gap = 0`), or are also less
+/// than `gap` rad apart.
+fn coincide(a: &Vec3<X>, b: &Vec3<X>, gap: f64) -> bool {
+    let c = a.cross(b);
+    let d = a.dot(b);
+    d > X::zero()
+        && ((c.x == X::zero() && c.y == X::zero() && c.z == X::zero())
+            || c.norm().atan2(&d).to_f64() < gap)
+}
+
+/// The number of distinct directions left when each vertex coinciding
+/// ([`coincide`]) with the last one kept is dropped, cyclically (the
+/// constructor's rule).
+fn distinct_directions(v: &[Vec3<X>], gap: f64) -> usize {
+    let mut kept: Vec<&Vec3<X>> = Vec::new();
+    for p in v {
+        if kept.last().is_some_and(|q| coincide(q, p, gap)) {
+            continue;
+        }
+        kept.push(p);
+    }
+    while kept.len() > 1 && coincide(kept[kept.len() - 1], kept[0], gap) {
+        kept.pop();
+    }
+    kept.len()
 }
 
 /// Lambert's projected solid angle of the polygon clipped to `p · n ≥ 0`
@@ -130,22 +147,36 @@ fn lambert_magnitude(v: &[Vec3<X>]) -> f64 {
     m
 }
 
+/// The rejections as coincident of one scalar type.
+#[derive(Default, Debug)]
+struct Coincident {
+    /// Rejected as coincident.
+    count: usize,
+    /// By the number of exactly distinct directions (consecutive exactly
+    /// coinciding ones merged).
+    by_exact_distinct: BTreeMap<usize, usize>,
+    /// By kind of case.
+    kinds: BTreeMap<&'static str, usize>,
+    /// Those with 3 or more exactly distinct directions: log10 of the
+    /// least angle between consecutive ones (radians): (least, largest).
+    gap_range: Option<(f64, f64)>,
+    /// Left with 3 or more directions when those closer than 10⁻¹⁵ rad
+    /// are merged too (must be none).
+    resolved: usize,
+}
+
 #[derive(Default, Debug)]
 struct Tally {
     tried: usize,
-    /// Rejected as coincident: (count, really coincident).
-    coincident: (usize, usize),
+    /// Rejected as coincident, per scalar.
+    coincident: BTreeMap<&'static str, Coincident>,
     /// Rejected as zero projected solid angle: (count, exactly zero
     /// (below 1e-60), by kind).
     zero: (usize, usize),
     zero_kinds: BTreeMap<&'static str, usize>,
-    coincident_kinds: BTreeMap<&'static str, usize>,
     /// log10 of the exact projected solid angle of the zero-area
     /// rejections: (least, largest).
     zero_range: Option<(f64, f64)>,
-    /// log10 of the least angle between consecutive directions of the
-    /// coincident rejections (radians): (least, largest).
-    gap_range: Option<(f64, f64)>,
     /// Zero-area rejections with a positive exact Π, direction input:
     /// log10 of Π / (u Σ|n_z||Δφ|), u = 2⁻⁵³: (least, largest).
     ratio_range: Option<(f64, f64)>,
@@ -180,29 +211,56 @@ fn least_gap(v: &[Vec3<X>]) -> f64 {
         .fold(f64::MAX, f64::min)
 }
 
-fn judge(case: &PolygonCase, t: &mut Tally) {
-    t.tried += 1;
-    let vertices: Vec<Vec3<f64>> = case.vertices.iter().map(v3).collect();
-    let built = match &case.seen_from {
+fn build<T: Real>(case: &PolygonCase) -> Result<ProjectedPolygon<T>, WarpError> {
+    let vertices: Vec<Vec3<T>> = case.vertices.iter().map(v3).collect();
+    match &case.seen_from {
         None => ProjectedPolygon::new(&vertices),
         Some((o, n)) => ProjectedPolygon::from_points(&vertices, &v3(o), &v3(n)),
-    };
-    let Err(WarpError::Degenerate { what }) = built else {
+    }
+}
+
+/// Judges a rejection as coincident by `T`'s constructor; `true` if it was
+/// one.
+fn judge_coincident<T: Real>(
+    case: &PolygonCase,
+    what: &str,
+    name: &'static str,
+    t: &mut Tally,
+) -> bool {
+    if !what.contains("coincident consecutive") {
+        return false;
+    }
+    let (v, _) = directions::<T>(case);
+    let exact = distinct_directions(&v, 0.0);
+    let c = t.coincident.entry(name).or_default();
+    c.count += 1;
+    *c.kinds.entry(case.kind).or_default() += 1;
+    *c.by_exact_distinct.entry(exact).or_default() += 1;
+    if exact >= 3 {
+        widen(&mut c.gap_range, least_gap(&v).log10());
+    }
+    if distinct_directions(&v, 1e-15) >= 3 {
+        c.resolved += 1;
+        if t.examples.len() < 6 {
+            t.examples.push(format!("{name} coincident: {case:?}"));
+        }
+    }
+    true
+}
+
+fn judge(case: &PolygonCase, t: &mut Tally) {
+    t.tried += 1;
+    if let Err(WarpError::Degenerate { what }) = build::<f32>(case) {
+        judge_coincident::<f32>(case, what, "f32", t);
+    }
+    let Err(WarpError::Degenerate { what }) = build::<f64>(case) else {
         return;
     };
-    let (v, n) = directions(case);
-    if what.contains("coincident consecutive") {
-        t.coincident.0 += 1;
-        *t.coincident_kinds.entry(case.kind).or_default() += 1;
-        if coincident_pair(&v) {
-            t.coincident.1 += 1;
-        } else {
-            widen(&mut t.gap_range, least_gap(&v).log10());
-            if t.examples.len() < 6 {
-                t.examples.push(format!("coincident: {case:?}"));
-            }
-        }
-    } else if what.contains("zero projected solid angle") || what.contains("not resolved") {
+    let (v, n) = directions::<f64>(case);
+    if judge_coincident::<f64>(case, what, "f64", t) {
+        return;
+    }
+    if what.contains("zero projected solid angle") || what.contains("not resolved") {
         t.zero.0 += 1;
         *t.zero_kinds.entry(case.kind).or_default() += 1;
         let pi = clipped_projected_solid_angle(&v, &n);
@@ -258,8 +316,11 @@ fn survey(cases: u32) {
         .unwrap();
     let t = tally.into_inner();
     println!("\n{t:#?}");
-    if let Some((_, widest)) = t.gap_range {
-        assert!(widest < -15.0, "a 'coincident' pair 10^{widest} rad apart");
+    for (name, c) in &t.coincident {
+        assert_eq!(
+            c.resolved, 0,
+            "{name}: a polygon rejected as coincident with 3 directions apart by 10⁻¹⁵ rad or more"
+        );
     }
     if let Some((_, highest)) = t.ratio_range {
         assert!(

@@ -1,6 +1,7 @@
 //! Preprocessing: validation and orientation of the polygon, clipping
 //! against the receiver's horizon, and the partition into lunes.
 
+use super::coincident::distinct;
 use super::geometry::{scaled_unit, unit_direction};
 use super::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use crate::error::WarpError;
@@ -113,9 +114,13 @@ pub(super) fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
 /// [`ProjectedPolygon::solid_angle`](super::ProjectedPolygon::solid_angle)
 /// computes it on demand otherwise (`geometry::source_solid_angle`).
 /// The vertices come as an iterator (the constructor widens them on the
-/// way, without a copy of its own).
+/// way, without a copy of its own); a vertex coinciding with its
+/// predecessor is dropped (`coincident.rs`: `close` and `same` as in
+/// [`distinct`]).
 pub(super) fn prepare<T: Real>(
     vertices: impl ExactSizeIterator<Item = Vec3<T>>,
+    close: &T,
+    same: impl Fn(usize, usize) -> bool,
 ) -> Result<(Vec<Vec3<T>>, Option<T>), WarpError> {
     let n = vertices.len();
     if n < 3 {
@@ -125,16 +130,9 @@ pub(super) fn prepare<T: Real>(
     for p in vertices {
         v.push(unit_direction(&p, "polygon vertex")?);
     }
-    for i in 0..n {
-        let (a, b) = (&v[i], &v[next(i, n)]);
-        if a.cross(b).max_abs() == T::zero() {
-            return Err(if a.dot(b) > T::zero() {
-                degenerate("coincident consecutive vertices")
-            } else {
-                degenerate("antipodal consecutive vertices (the edge is undefined)")
-            });
-        }
-    }
+    // Repeated vertices dropped, antipodal consecutive ones rejected.
+    let mut v = distinct(v, close, same)?;
+    let n = v.len();
     let u = T::unit_roundoff();
     let turning = rough_turning(&v)?;
     // The rough solid angle 2π − Σ τ is off by at most 2·10⁻⁵ per vertex;

@@ -4,6 +4,7 @@
 //! demand.
 
 use super::build::{Arc, rough_turning};
+use super::coincident::{coincidence_scale, distinct};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::polygon_measures::oriented_solid_angle_with_turning;
@@ -126,8 +127,8 @@ fn solid_angle_of_units<T: Real>(v: &[Vec3<T>]) -> T {
 
 /// The solid angle of the polygon given by `source` (seen in the receiver's
 /// `frame` for points), from the unit vertices in the wide type and in the
-/// input order, as `prepare` computes them: the same bits as the
-/// constructor's value where it needed one.
+/// input order, as `prepare` computes them (repeated vertices dropped): the
+/// same bits as the constructor's value where it needed one.
 pub(super) fn source_solid_angle<T: Real>(source: &Source<T>, frame: Option<&Frame<T>>) -> T {
     let local: Vec<Vec3<T>> = match (source, frame) {
         (
@@ -145,5 +146,9 @@ pub(super) fn source_solid_angle<T: Real>(source: &Source<T>, frame: Option<&Fra
         .iter()
         .map(|p| unit_direction(&widen3(p), "polygon vertex").expect("accepted vertices"))
         .collect();
+    let units = distinct(units, &coincidence_scale::<T>(), |i, j| {
+        source.same_direction(i, j)
+    })
+    .expect("accepted vertices");
     T::narrow(&solid_angle_of_units(&units))
 }

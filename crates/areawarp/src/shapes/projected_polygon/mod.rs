@@ -4,6 +4,7 @@
 //! marginal inversion: `docs/projected-polygon.md`.
 
 mod build;
+mod coincident;
 mod geometry;
 mod lune;
 mod narrow;
@@ -13,6 +14,7 @@ mod reference;
 mod tests;
 
 use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
+use self::coincident::coincidence_scale;
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{ActiveLune, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
 use self::narrow::{narrow_built, representable, unrepresentable};
@@ -91,10 +93,17 @@ pub enum MarginalInversion {
 /// and the normal is given (returned directions are then in world
 /// coordinates).
 ///
+/// # Repeated vertices
+/// A vertex whose direction coincides with its predecessor's (the same
+/// input direction, decided exactly, or not resolved by unit vectors) is
+/// dropped: a quad with a repeated corner is the triangle. The shape keeps
+/// its input verbatim ([`WarpFamily::at`], [`LightWarp::sample_light`]'s
+/// plane); see `docs/projected-polygon.md`, "Repeated vertices".
+///
 /// # Checked in the constructor
-/// Fewer than three vertices, non-finite or zero directions, coincident or
-/// antipodal consecutive vertices, a boundary folding straight back on
-/// itself, a boundary that is a great circle (interior ambiguous), zero
+/// Fewer than three (distinct) vertices, non-finite or zero directions,
+/// antipodal consecutive vertices, a boundary folding back on itself, a
+/// boundary that is a great circle (interior ambiguous), zero
 /// projected solid angle after clipping (below the horizon), and — cheaply,
 /// as a by-product of the lune partition — self-intersections: edges whose
 /// order along a meridian changes inside a lune (by more than 2^(−p/2) in
@@ -323,7 +332,12 @@ impl<T: Real> ProjectedPolygon<T> {
         // two consecutive unit vertices round together in f32. For a
         // narrower T the clipping, the partition and every constant are
         // computed in the wide type too and rounded (`narrow.rs`).
-        let (vertices_w, solid_angle_w) = prepare(local.iter().map(widen3))?;
+        // Repeated vertices are dropped (`coincident.rs`).
+        let (vertices_w, solid_angle_w) = prepare(
+            local.iter().map(widen3),
+            &coincidence_scale::<T>(),
+            |i, j| source.same_direction(i, j),
+        )?;
         let built = if T::precision() < <T::Wide as Real>::precision() {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());

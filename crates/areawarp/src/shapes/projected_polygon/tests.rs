@@ -173,8 +173,10 @@ fn projected_polygon_constructor_errors() {
         ProjectedPolygon::new(&inf),
         Err(WarpError::NonFinite { .. })
     ));
-    // Zero direction; coincident (same direction, other length) and
-    // antipodal consecutive vertices.
+    // Zero direction; coincident vertices (same direction, other length)
+    // leaving two distinct directions (a repeated vertex of a polygon with
+    // three distinct ones is dropped: `tests/coincident.rs`), and antipodal
+    // consecutive vertices.
     assert!(is_degenerate(ProjectedPolygon::new(&[
         v(0.0, 0.0, 0.0),
         tri[1],
@@ -184,7 +186,7 @@ fn projected_polygon_constructor_errors() {
         tri[0],
         tri[0].scale(&3.0),
         tri[1],
-        tri[2]
+        tri[1].scale(&0.7)
     ])));
     assert!(is_degenerate(ProjectedPolygon::new(&[
         v(0.0, 0.0, 1.0),
@@ -583,5 +585,6 @@ fn projected_polygon_chi_square_1e6() {
     check_chi2(1_000_000);
 }
 
+mod coincident;
 #[cfg(feature = "mpfr")]
 mod mpfr;
