@@ -141,21 +141,23 @@ fn column<T: Real>(x: &T, k: &Lengths<'_, T>) -> Column<T> {
 }
 
 /// `(1 − ω(x), 1 + ω(x))` at the column `col` of `x`, without cancellation
-/// (only the anchors need them: computed for the anchor's column alone).
+/// (only the anchors need them: computed for the anchor's column alone),
+/// given `t = ℓ₀ℓ₁/N(x)`.
 #[inline(always)]
-fn complements<T: Real>(col: &Column<T>, x: &T, k: &Lengths<'_, T>) -> (T, T) {
+fn complements<T: Real>(col: &Column<T>, x: &T, t: &T, k: &Lengths<'_, T>) -> (T, T) {
     let one = T::one();
-    let l0l1 = k.l0.clone() * k.l1;
-    let (r0, r1, n, w) = (&col.r0, &col.r1, &col.n, &col.w);
+    let (r0, r1, w) = (&col.r0, &col.r1, &col.w);
+    // N − |x|σ = ℓ₁(r₀ − |x|) + ℓ₀(r₁ − |x|), rⱼ − |x| = ℓⱼ²/(rⱼ + |x|):
+    // 1 ∓ ω = t (ℓ₀(r₁ + |x|) + ℓ₁(r₀ + |x|)) / ((r₀ + |x|)(r₁ + |x|)), one
+    // division (every product of two lengths ≥ h², normal).
+    let c = |a: T| {
+        let (p0, p1) = (r0.clone() + &a, r1.clone() + &a);
+        t.clone() * &((k.l0.clone() * &p1 + &(k.l1.clone() * &p0)) / &(p0 * &p1))
+    };
     if *x > T::zero() {
-        // N − xσ = ℓ₁(r₀ − x) + ℓ₀(r₁ − x), rⱼ − x = ℓⱼ²/(rⱼ + x).
-        let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() + x) + &(k.l1.clone() / &(r1.clone() + x))) / n;
-        (c, one + w)
+        (c(x.clone()), one + w)
     } else if *x < T::zero() {
-        let c =
-            l0l1 * &(k.l0.clone() / &(r0.clone() - x) + &(k.l1.clone() / &(r1.clone() - x))) / n;
-        (one - w, c)
+        (one - w, c(-x.clone()))
     } else {
         (one.clone(), one)
     }
@@ -617,7 +619,9 @@ fn anchor<T: Real>(
     let s_phi = sdw.clone() * &inv_n * scale;
     let c_phi = cd.clone() * &inv_n;
     let sdcd_n = sd.clone() * cd * &inv_n;
-    let (one_m_w, one_p_w) = complements(col, x, k);
+    // ℓ₀ℓ₁/N(xₑ), shared by the complements and √S(ωₑ).
+    let t = k.l0.clone() * k.l1 / &col.n;
+    let (one_m_w, one_p_w) = complements(col, x, &t, k);
     let s_p = one_m_w.clone() * &sdcd_n * scale;
     let s_m = one_p_w.clone() * &sdcd_n * scale;
     let cd2 = cd.square();
@@ -625,7 +629,7 @@ fn anchor<T: Real>(
     let c_p = (cd2.clone() + &sd2w) * &inv_n;
     let c_m = (cd2 - &sd2w) * &inv_n;
     let one_m_abs_w = if w >= T::zero() { one_m_w } else { one_p_w };
-    let sqrt_s = two * k.l0 * k.l1 * k.sigma / &col.n;
+    let sqrt_s = two * &t * k.sigma;
     let n_over_sigma = col.n.clone() / k.sigma;
     let w_zero = w == T::zero();
     let abs_w = w.abs();
