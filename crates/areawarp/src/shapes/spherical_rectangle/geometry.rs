@@ -147,15 +147,15 @@ impl<T: Real> Frame<T> {
         let ly_world = ly2.sqrt();
         let inv_lx = T::one() / &lx_world;
         let inv_ly = T::one() / &ly_world;
-        // |e_x × e_y⊥| = |e_x| |e_y⊥| < max: no overflow, then ≤ |e_y⊥|, ≤ 1.
-        let zplus = ex.cross(&ey_perp).scale(&inv_lx).scale(&inv_ly);
+        let xhat = ex.scale(&inv_lx);
+        let yhat = ey_perp.scale(&inv_ly);
         Some(Ok(Frame {
-            xhat: ex.scale(&inv_lx),
-            yhat: ey_perp.scale(&inv_ly),
+            zplus: xhat.cross(&yhat),
+            xhat,
+            yhat,
             lx_world,
             ey_perp,
             ly_world,
-            zplus,
         }))
     }
 

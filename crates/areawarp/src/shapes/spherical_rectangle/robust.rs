@@ -222,9 +222,10 @@ impl<T: Real> Robust<T> {
         } else {
             e0.clone() * &e1 + &(y0.clone() * &y1)
         };
-        let den = two.clone() * &(l0.clone() * &l1 * &e0 * &e1).sqrt();
-        let sd = num_s / &den;
-        let cd = num_c / &den;
+        // One division for both: 1/(2√(ℓ₀ℓ₁(ℓ₀ + h)(ℓ₁ + h))).
+        let inv_den = half.clone() / &(l0.clone() * &l1 * &e0 * &e1).sqrt();
+        let sd = num_s * &inv_den;
+        let cd = num_c * &inv_den;
         let sdcd = sd.clone() * &cd;
         let sd2 = sd.square();
         let cd2 = cd.square();
