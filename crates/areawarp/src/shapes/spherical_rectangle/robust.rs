@@ -182,10 +182,13 @@ impl<T: Real> Robust<T> {
         let x1 = x0.clone() + &lx;
         let y1 = y0.clone() + &ly;
         let h2 = h.square();
-        let l0 = length(&[y0.clone(), h.clone()]);
-        let l1 = length(&[y1.clone(), h.clone()]);
         let l0sq = y0.square() + &h2;
         let l1sq = y1.square() + &h2;
+        // ℓⱼ² ≥ h² stays normal for every shape the range check accepts
+        // (h² ≥ tiny/u) and below 20 (local lengths below 2): one root each,
+        // no scaling needed.
+        let l0 = l0sq.sqrt();
+        let l1 = l1sq.sqrt();
         let sigma = l0.clone() + &l1;
         let lengths = Lengths {
             l0: &l0,
