@@ -98,6 +98,106 @@ fn degenerate(what: &'static str) -> WarpError {
     WarpError::Degenerate { what }
 }
 
+/// The frame along the edges: `|e_x|`, `x̂`, the squared-up `e_y`, its
+/// length, `ŷ` and `x̂ × ŷ`.
+struct Frame<T> {
+    lx_world: T,
+    xhat: Vec3<T>,
+    ey_perp: Vec3<T>,
+    ly_world: T,
+    yhat: Vec3<T>,
+    zplus: Vec3<T>,
+}
+
+fn not_perpendicular() -> WarpError {
+    WarpError::InvalidParameter {
+        name: "ey",
+        expected: "an edge perpendicular to ex (|cos| ≤ 64 units of roundoff)",
+    }
+}
+
+impl<T: Real> Frame<T> {
+    /// The frame of the finite edges `ex`, `ey` (`|cos ∠| ≤ tol`) when
+    /// `|e_x|²`, `|e_y|²` and `|e_y⊥|²` are neither tiny nor huge (`None`
+    /// otherwise: [`Frame::scaled`]). The projection `e_y⊥ = e_y −
+    /// (e_x·e_y/|e_x|²) e_x` and the perpendicularity test
+    /// `|e_x·e_y| ≤ tol |e_x| |e_y|` come from `e_x·e_y` directly, so that
+    /// the second edge's root does not wait for the first's root and
+    /// division (the constructor's longest chain of dependent operations).
+    #[inline(always)]
+    fn direct(ex: &Vec3<T>, ey: &Vec3<T>, tol: &T) -> Option<Result<Self, WarpError>> {
+        let tiny = T::unit_roundoff().powi(4);
+        let safe = |x: &T| *x > tiny && x.is_finite();
+        let lx2 = ex.dot(ex);
+        let ey2 = ey.dot(ey);
+        if !safe(&lx2) || !safe(&ey2) {
+            return None;
+        }
+        let ee = ex.dot(ey);
+        // Both roots are at least u², their product with tol is normal.
+        let lx_world = lx2.sqrt();
+        if ee.abs() > tol.clone() * &lx_world * &ey2.sqrt() {
+            return Some(Err(not_perpendicular()));
+        }
+        let ey_perp = ey.sub(&ex.scale(&(ee / &lx2)));
+        let ly2 = ey_perp.dot(&ey_perp);
+        if !safe(&ly2) {
+            return None;
+        }
+        let ly_world = ly2.sqrt();
+        let inv_lx = T::one() / &lx_world;
+        let inv_ly = T::one() / &ly_world;
+        let xhat = ex.scale(&inv_lx);
+        let yhat = ey_perp.scale(&inv_ly);
+        Some(Ok(Frame {
+            zplus: xhat.cross(&yhat),
+            xhat,
+            yhat,
+            lx_world,
+            ey_perp,
+            ly_world,
+        }))
+    }
+
+    /// The frame of the finite edges `ex`, `ey` of any magnitude (lengths
+    /// by [`norm`]), or why there is none.
+    fn scaled(ex: &Vec3<T>, ey: &Vec3<T>, tol: &T) -> Result<Self, WarpError> {
+        let one = T::one();
+        let lx_world = norm(ex);
+        if !positive(&lx_world) {
+            return Err(degenerate("zero-length edge ex"));
+        }
+        if !lx_world.is_finite() {
+            return Err(non_finite("length of edge ex"));
+        }
+        let ey_len = norm(ey);
+        if !positive(&ey_len) {
+            return Err(degenerate("zero-length edge ey"));
+        }
+        if !ey_len.is_finite() {
+            return Err(non_finite("length of edge ey"));
+        }
+        let xhat = ex.scale(&(one.clone() / &lx_world));
+        let along = xhat.dot(ey);
+        let cosine = along.clone() / &ey_len;
+        if cosine.is_nan() || cosine.abs() > *tol {
+            return Err(not_perpendicular());
+        }
+        let ey_perp = ey.sub(&xhat.scale(&along));
+        let ly_world = norm(&ey_perp);
+        let yhat = ey_perp.scale(&(one / &ly_world));
+        let zplus = xhat.cross(&yhat);
+        Ok(Frame {
+            lx_world,
+            xhat,
+            ey_perp,
+            ly_world,
+            yhat,
+            zplus,
+        })
+    }
+}
+
 impl<T: Real> Geometry<T> {
     /// Validates the input and builds the frame; `bits` is the precision the
     /// data were given in (it sets the perpendicularity tolerance).
@@ -109,47 +209,38 @@ impl<T: Real> Geometry<T> {
         o: Vec3<T>,
         bits: u32,
     ) -> Result<Self, WarpError> {
-        if !s.is_finite() {
-            return Err(non_finite("corner s"));
+        // One test for the twelve numbers (their sum is finite only if each
+        // is; a finite sum that overflows falls through to the four tests
+        // that name the culprit, and passes them).
+        let sum = [&s, &ex, &ey, &o]
+            .iter()
+            .fold(T::zero(), |acc, v| acc + &v.x + &v.y + &v.z);
+        if !sum.is_finite() {
+            if !s.is_finite() {
+                return Err(non_finite("corner s"));
+            }
+            if !ex.is_finite() {
+                return Err(non_finite("edge ex"));
+            }
+            if !ey.is_finite() {
+                return Err(non_finite("edge ey"));
+            }
+            if !o.is_finite() {
+                return Err(non_finite("observer o"));
+            }
         }
-        if !ex.is_finite() {
-            return Err(non_finite("edge ex"));
-        }
-        if !ey.is_finite() {
-            return Err(non_finite("edge ey"));
-        }
-        if !o.is_finite() {
-            return Err(non_finite("observer o"));
-        }
-        let one = T::one();
-        let lx_world = norm(&ex);
-        if !positive(&lx_world) {
-            return Err(degenerate("zero-length edge ex"));
-        }
-        if !lx_world.is_finite() {
-            return Err(non_finite("length of edge ex"));
-        }
-        let ey_len = norm(&ey);
-        if !positive(&ey_len) {
-            return Err(degenerate("zero-length edge ey"));
-        }
-        if !ey_len.is_finite() {
-            return Err(non_finite("length of edge ey"));
-        }
-        let xhat = ex.scale(&(one.clone() / &lx_world));
-        let along = xhat.dot(&ey);
-        let cosine = along.clone() / &ey_len;
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
-        if cosine.is_nan() || cosine.abs() > tol {
-            return Err(WarpError::InvalidParameter {
-                name: "ey",
-                expected: "an edge perpendicular to ex (|cos| ≤ 64 units of roundoff)",
-            });
-        }
-        let ey_perp = ey.sub(&xhat.scale(&along));
-        let ly_world = norm(&ey_perp);
-        let yhat = ey_perp.scale(&(one / &ly_world));
-        let zplus = xhat.cross(&yhat);
+        let Frame {
+            lx_world,
+            xhat,
+            ey_perp,
+            ly_world,
+            yhat,
+            zplus,
+        } = match Frame::direct(&ex, &ey, &tol) {
+            Some(frame) => frame?,
+            None => Frame::scaled(&ex, &ey, &tol)?,
+        };
         let d = s.sub(&o);
         let zc = d.dot(&zplus);
         if zc.is_nan() {

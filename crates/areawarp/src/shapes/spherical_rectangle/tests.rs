@@ -699,6 +699,45 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
             "{local:?} {omega:e} {exp}"
         );
     }
+    // The three comparisons of `ordinary_density_range` imply the products'
+    // test, including at its corners (h = 2^-16, Ω = 2^-32, |exp| = 16,
+    // the farthest corner at (±4, ±4)).
+    for i in 0..100_000 {
+        let corner = i % 2 == 0;
+        let exp = if corner {
+            16 - 32 * (i / 2 % 2)
+        } else {
+            (next() * 33.0) as i32 - 16
+        };
+        let h = if corner {
+            2f64.powi(-16)
+        } else {
+            2f64.powi(-((next() * 17.0) as i32)) * (1.0 + next())
+        };
+        let omega = if corner {
+            2f64.powi(-32)
+        } else {
+            2f64.powi(-((next() * 33.0) as i32)) * (1.0 + 2.0 * next())
+        };
+        let (x0, y0) = if corner {
+            (-2.0, -2.0)
+        } else {
+            (4.0 * next() - 2.0, 4.0 * next() - 2.0)
+        };
+        let (lx, ly) = if corner {
+            (2.0, 2.0)
+        } else {
+            (2.0 * next(), 2.0 * next())
+        };
+        let local = [x0, y0, lx, ly, h.min(2.0)];
+        let (th, tomega) = (T::from_f64(local[4]), T::from_f64(omega));
+        if super::ordinary_density_range(&th, &tomega, exp) {
+            assert!(
+                area_density_in_range::<T>(&local, &omega, exp),
+                "{local:?} {omega:e} {exp}"
+            );
+        }
+    }
 }
 
 #[test]
