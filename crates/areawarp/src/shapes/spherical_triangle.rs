@@ -307,7 +307,7 @@ impl<T: Real> SphericalTriangle<T> {
         input: [Vec3<T>; 3],
         variant: SphericalTriangleVariant,
     ) -> Result<Self, WarpError> {
-        let (omega, inv_omega) = build::omega_in::<T>(core)?;
+        let (omega, inv_omega) = build::omega_in::<T>(&core.omega)?;
         let two = <T::Wide as Real>::from_i64(2);
         let d = T::narrow(&core.d);
         if !positive(&d) {
@@ -475,7 +475,7 @@ impl<T: Real> SphericalTriangle<T> {
 
     #[inline(always)]
     fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
-        let (_, inv_omega) = build::omega_in::<T>(core)?;
+        let (_, inv_omega) = build::omega_in::<T>(&core.omega)?;
         if !positive(&T::narrow(&core.d)) {
             return Err(out_of_range());
         }

@@ -21,7 +21,7 @@
 
 use super::geometry::{Geometry, length};
 use crate::real::Real;
-use crate::shapes::turns::positive;
+use crate::shapes::turns::{positive, twice_atan2_nonneg};
 use crate::shapes::wide::floor_log2;
 
 /// ω at one column `x` and the roots it is formed from.
@@ -333,17 +333,9 @@ impl<T: Real> Robust<T> {
     fn solid_angle_between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
         let y = self.sdcd.clone() * dw;
         let x = self.cd2.clone() + &(self.sd2.clone() * &ca.w * &cb.w);
-        // y ≥ 0. For x > 0 (half angle below π/2: every rectangle of
-        // Ω < π, and most others) `atan(y/x)` costs half of `atan2` (libm:
-        // 72 against 162 instructions in f64, 74 against 143 in f32) for
-        // one more rounding (the quotient's, ½ ulp, not amplified: the
-        // condition number of atan is at most 1).
-        let half_angle = if x > T::zero() {
-            (y / &x).atan()
-        } else {
-            y.atan2(&x)
-        };
-        half_angle * &T::from_i64(2)
+        // y ≥ 0: by atan(y/x) for x > 0 (half angle below π/2), about half
+        // of atan2's cost (see `twice_atan2_nonneg`).
+        twice_atan2_nonneg(&y, &x)
     }
 
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and

@@ -10,6 +10,7 @@
 use super::positive;
 use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::turns::twice_atan2_nonneg;
 use crate::shapes::wide::{narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
@@ -201,18 +202,9 @@ impl<W: Real> Validated<W> {
             return Err(reject::ANTIPODAL);
         }
         let den = q_sum / &two + &third.dot(&sum);
-        // Ω/2 = atan2(|det|, den); for den > 0 (Ω < π) as atan(|det|/den),
-        // which costs about half of libm's atan2 for one more rounding (the
-        // quotient's, ½ ulp, not amplified: atan's condition number is at
-        // most 1), unless the quotient leaves the normal range.
-        let abs_det = det.abs();
-        let ratio = abs_det.clone() / &den;
-        let half = if den > W::zero() && ratio >= W::normal_floor() {
-            ratio.atan()
-        } else {
-            abs_det.atan2(&den)
-        };
-        let omega = half * &two;
+        // Ω = 2 atan2(|det|, den), by atan(|det|/den) where that is exact
+        // enough (see `twice_atan2_nonneg`).
+        let omega = twice_atan2_nonneg(&det.abs(), &den);
         if !positive(&omega) {
             return Err(reject::UNDERFLOW);
         }
@@ -396,12 +388,12 @@ impl<W: Real> Anchor<W> {
     }
 }
 
-/// The solid angle Ω and density 1/Ω rounded to `T`, or the reason `T`
-/// cannot hold them.
+/// The solid angle Ω (`wide`, computed in `T::Wide`) and density 1/Ω
+/// rounded to `T`, or the reason `T` cannot hold them.
 #[inline(always)]
-pub(super) fn omega_in<T: Real>(core: &Core<T::Wide>) -> Result<(T, T), WarpError> {
-    let omega = T::narrow(&core.omega);
-    let inv_omega = T::narrow(&(<T::Wide as Real>::one() / &core.omega));
+pub(super) fn omega_in<T: Real>(wide: &T::Wide) -> Result<(T, T), WarpError> {
+    let omega = T::narrow(wide);
+    let inv_omega = T::narrow(&(<T::Wide as Real>::one() / wide));
     if !positive(&omega) || !positive(&inv_omega) || !inv_omega.is_finite() {
         return Err(reject::OUT_OF_RANGE);
     }
@@ -447,11 +439,5 @@ pub(super) fn solid_angle_of<T: Real>(
     c: &Vec3<T>,
 ) -> Result<T, WarpError> {
     let [a, b, c] = wide_directions(a, b, c)?;
-    let omega = Validated::new(&a, &b, &c)?.omega;
-    let narrow = T::narrow(&omega);
-    let inv = T::narrow(&(<T::Wide as Real>::one() / &omega));
-    if !positive(&narrow) || !positive(&inv) || !inv.is_finite() {
-        return Err(reject::OUT_OF_RANGE);
-    }
-    Ok(narrow)
+    Ok(omega_in::<T>(&Validated::new(&a, &b, &c)?.omega)?.0)
 }
