@@ -12,7 +12,8 @@ use crate::shapes::polygon_measures::{
 };
 use crate::vector::Vec3;
 
-fn degenerate(what: &'static str) -> WarpError {
+/// [`WarpError::Degenerate`] with the reason `what`.
+pub(super) fn degenerate(what: &'static str) -> WarpError {
     WarpError::Degenerate { what }
 }
 

@@ -12,16 +12,12 @@
 //! any further work done ([`drop_coincident`], out of line). Derivation and
 //! the fuzz counts: `docs/projected-polygon.md`, "Repeated vertices".
 
-use super::build::next;
+use super::build::{degenerate, next};
 use super::geometry::Source;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
-
-fn degenerate(what: &'static str) -> WarpError {
-    WarpError::Degenerate { what }
-}
 
 /// The size of the cross product of two consecutive unit vertices (in the
 /// wide type) below which their input directions are tested for exact
