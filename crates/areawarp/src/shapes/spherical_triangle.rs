@@ -23,7 +23,7 @@ pub use recipe::SphericalTriangleRecipe;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::clamp_unit;
-use crate::shapes::wide::{narrow3, unit_vector, widen3};
+use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
@@ -403,23 +403,19 @@ impl<T: Real> SphericalTriangle<T> {
         p2: &Vec3<T>,
         observer: &Vec3<T>,
     ) -> Result<PointsCore<T>, WarpError> {
-        for (v, what) in [
+        check_finite([
             (p0, "point 0"),
             (p1, "point 1"),
             (p2, "point 2"),
             (observer, "observer"),
-        ] {
-            if !v.is_finite() {
-                return Err(WarpError::NonFinite { what });
-            }
-        }
+        ])?;
         let o = widen3(observer);
         let d = [widen3(p0).sub(&o), widen3(p1).sub(&o), widen3(p2).sub(&o)];
-        for (v, what) in d.iter().zip(["vertex A", "vertex B", "vertex C"]) {
-            if !v.is_finite() {
-                return Err(WarpError::NonFinite { what });
-            }
-        }
+        check_finite([
+            (&d[0], "vertex A"),
+            (&d[1], "vertex B"),
+            (&d[2], "vertex C"),
+        ])?;
         let core = Core::new(&d[0], &d[1], &d[2])?;
         Ok((d.map(|v| narrow3::<T>(&v)), core))
     }

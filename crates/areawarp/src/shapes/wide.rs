@@ -8,8 +8,29 @@
 //! the `f64` constructor accepts the same values, and its constants are
 //! correctly rounded.
 
+use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
+
+/// `Err(NonFinite)` naming the first vector of `named` with a NaN or
+/// infinite coordinate. One test for all of them in the common case: the
+/// sum of the coordinates is finite only if each is (a finite sum that
+/// overflows falls through to the per-vector tests, and passes them).
+#[inline(always)]
+pub(crate) fn check_finite<T: Real, const N: usize>(
+    named: [(&Vec3<T>, &'static str); N],
+) -> Result<(), WarpError> {
+    let sum = named
+        .iter()
+        .fold(T::zero(), |acc, (v, _)| acc + &v.x + &v.y + &v.z);
+    if sum.is_finite() {
+        return Ok(());
+    }
+    match named.iter().find(|(v, _)| !v.is_finite()) {
+        Some(&(_, what)) => Err(WarpError::NonFinite { what }),
+        None => Ok(()),
+    }
+}
 
 /// `v` in `T::Wide` (exact).
 #[inline]

@@ -11,7 +11,7 @@ use super::positive;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::twice_atan2_nonneg;
-use crate::shapes::wide::{narrow3, unit_vector, widen3};
+use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
 /// `|v|²`.
@@ -21,7 +21,9 @@ pub(super) fn norm2<T: Real>(v: &Vec3<T>) -> T {
 }
 
 /// The unit tangent `[y|x]` at the unit vector `x` pointing along the great
-/// arc towards `y`, and `|y − (x·y)x| = sin∠(x, y)`, from the chords at hand:
+/// arc towards `y`, `|y − (x·y)x| = sin∠(x, y)` and its reciprocal (the
+/// one division the normalization needs, shared with the caller), from the
+/// chords at hand:
 /// `minus = y − x`, `plus = y + x` and their squared lengths.
 ///
 /// `y − (x·y)x` cancels when `y ≈ ±x`; it is computed as
@@ -36,7 +38,7 @@ pub(super) fn tangent<T: Real>(
     x: &Vec3<T>,
     (minus, q_minus): (&Vec3<T>, &T),
     (plus, q_plus): (&Vec3<T>, &T),
-) -> Option<(Vec3<T>, T)> {
+) -> Option<(Vec3<T>, T, T)> {
     let two = T::from_i64(2);
     let t = if q_minus <= q_plus {
         minus.add(&x.scale(&(q_minus.clone() / &two)))
@@ -48,7 +50,11 @@ pub(super) fn tangent<T: Real>(
         return None;
     }
     let inv = T::one() / &len;
-    Some((Vec3::new(t.x * &inv, t.y * &inv, t.z * &inv), len))
+    Some((
+        Vec3::new(t.x * &inv, t.y * &inv, t.z * &inv),
+        len,
+        inv,
+    ))
 }
 
 /// The typed errors of the constructor.
@@ -106,8 +112,10 @@ pub(super) struct Core<W> {
     /// [C|A] and sin b.
     pub c_perp: Vec3<W>,
     pub sin_b: W,
-    /// `d = sin c sin α = |det| / sin b`.
+    /// `d = sin c sin α = |det| / sin b`, and `1/d = sin b / |det|`
+    /// (each one rounding from the exact quotient's operands).
     pub d: W,
+    pub inv_d: W,
     /// `1 + cos c = |A + B|²/2`, `sin c cos α = (B − A)·[C|A]`.
     pub k1a: W,
     pub ka: W,
@@ -246,9 +254,12 @@ impl<W: Real> Core<W> {
         } = Validated::new(a, b, c)?;
         let ccw = det > W::zero();
         let abs_det = det.abs();
-        let (c_perp, sin_b) =
+        let (c_perp, sin_b, inv_sin_b) =
             tangent(&a, (&ca.neg(), &q_ca), (&s_ca, &p_ca)).ok_or(reject::ANTIPODAL)?;
-        let d = abs_det / &sin_b;
+        // d by the normalization's reciprocal; 1/d by its own division,
+        // which runs beside the tangent's (no division waits on another).
+        let d = abs_det.clone() * &inv_sin_b;
+        let inv_d = sin_b.clone() / &abs_det;
         let ka = ab.dot(&c_perp);
         if !positive(&d) || !d.is_finite() {
             return Err(reject::UNDERFLOW);
@@ -269,6 +280,7 @@ impl<W: Real> Core<W> {
             c_perp,
             sin_b,
             d,
+            inv_d,
             k1a,
             ka,
             omega,
@@ -279,11 +291,11 @@ impl<W: Real> Core<W> {
     #[inline(always)]
     pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
         if from_a {
-            Anchor::new(&self.a, &self.c_perp, &self.b, &self.d, &self.sign)
+            Anchor::new(&self.a, &self.c_perp, &self.b, &self.inv_d, &self.sign)
         } else {
-            let (along, _) = tangent(&self.c, (&self.ca, &self.q_ca), (&self.s_ca, &self.p_ca))
+            let (along, _, _) = tangent(&self.c, (&self.ca, &self.q_ca), (&self.s_ca, &self.p_ca))
                 .ok_or(reject::ANTIPODAL)?;
-            Anchor::new(&self.c, &along, &self.b, &self.d, &-self.sign.clone())
+            Anchor::new(&self.c, &along, &self.b, &self.inv_d, &-self.sign.clone())
         }
     }
 
@@ -328,21 +340,21 @@ pub(super) struct Anchor<T> {
 impl<W: Real> Anchor<W> {
     /// The constants for the end `vertex` of the arc, `along` the unit
     /// tangent there towards the other end; `sign` is the sign of
-    /// det(A, B, C) as ±1 for V = A (its opposite for V = C), `d` the
-    /// common |det|/sin b.
+    /// det(A, B, C) as ±1 for V = A (its opposite for V = C), `inv_d` the
+    /// reciprocal of the common `d = |det|/sin b`.
     #[inline(always)]
     fn new(
         vertex: &Vec3<W>,
         along: &Vec3<W>,
         b: &Vec3<W>,
-        d: &W,
+        inv_d: &W,
         sign: &W,
     ) -> Result<Self, WarpError> {
         let two = W::from_i64(2);
         let v_minus_b = vertex.sub(b);
         let v_plus_b = vertex.add(b);
         let (q_minus, q_plus) = (norm2(&v_minus_b), norm2(&v_plus_b));
-        let (t_b, _) =
+        let (t_b, _, _) =
             tangent(b, (&v_minus_b, &q_minus), (&v_plus_b, &q_plus)).ok_or(reject::ANTIPODAL)?;
         let s2 = q_minus / W::from_i64(4);
         // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
@@ -351,12 +363,11 @@ impl<W: Real> Anchor<W> {
         // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C). t_b ⊥ B,
         // both unit: the cross product is a unit vector up to rounding.
         let n_b = t_b.cross(b).scale(sign);
-        let inv_d = W::one() / d;
         Ok(Anchor {
             vertex: vertex.clone(),
             along: along.clone(),
-            k1_d: k1 * &inv_d,
-            k_d: k * &inv_d,
+            k1_d: k1 * inv_d,
+            k_d: k * inv_d,
             inv_s2: W::one() / &s2,
             v_minus_b,
             v_plus_b,
@@ -408,11 +419,7 @@ fn wide_directions<T: Real>(
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<[Vec3<T::Wide>; 3], WarpError> {
-    for (v, what) in [(a, "vertex A"), (b, "vertex B"), (c, "vertex C")] {
-        if !v.is_finite() {
-            return Err(WarpError::NonFinite { what });
-        }
-    }
+    check_finite([(a, "vertex A"), (b, "vertex B"), (c, "vertex C")])?;
     Ok([widen3(a), widen3(b), widen3(c)])
 }
 
