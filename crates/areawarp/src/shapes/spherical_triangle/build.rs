@@ -50,11 +50,7 @@ pub(super) fn tangent<T: Real>(
         return None;
     }
     let inv = T::one() / &len;
-    Some((
-        Vec3::new(t.x * &inv, t.y * &inv, t.z * &inv),
-        len,
-        inv,
-    ))
+    Some((Vec3::new(t.x * &inv, t.y * &inv, t.z * &inv), len, inv))
 }
 
 /// The typed errors of the constructor.
@@ -105,6 +101,8 @@ pub(super) struct Core<W> {
     pub s_ca: Vec3<W>,
     pub q_ca: W,
     pub p_ca: W,
+    /// The chords at B: `(|V − B|², V + B, |V + B|²)` for V = A and V = C.
+    pub at_b: [(W, Vec3<W>, W); 2],
     /// det(A, B, C) > 0.
     pub ccw: bool,
     /// ±1: the sign of det(A, B, C).
@@ -136,6 +134,8 @@ pub(super) struct Validated<W> {
     s_ca: Vec3<W>,
     q_ca: W,
     p_ca: W,
+    /// `(|A − B|², A + B, |A + B|²)` and `(|C − B|², C + B, |C + B|²)`.
+    at_b: [(W, Vec3<W>, W); 2],
     k1a: W,
     /// det(A, B, C) (its sign the orientation, its magnitude d's numerator).
     det: W,
@@ -183,9 +183,9 @@ impl<W: Real> Validated<W> {
         let (sum, q_sum, third, pair) = if p_ca <= p_ab && p_ca <= p_bc {
             (s_ca.clone(), p_ca.clone(), &b, 0)
         } else if p_ab <= p_bc {
-            (s_ab, p_ab, &c, 1)
+            (s_ab.clone(), p_ab.clone(), &c, 1)
         } else {
-            (s_bc, p_bc, &a, 2)
+            (s_bc.clone(), p_bc.clone(), &a, 2)
         };
         let det = if q_sum < q1.clone() * q2 {
             match pair {
@@ -226,6 +226,7 @@ impl<W: Real> Validated<W> {
             s_ca,
             q_ca,
             p_ca,
+            at_b: [(q_ab, s_ab, p_ab), (q_bc, s_bc, p_bc)],
             k1a,
             det,
             omega,
@@ -248,6 +249,7 @@ impl<W: Real> Core<W> {
             s_ca,
             q_ca,
             p_ca,
+            at_b,
             k1a,
             det,
             omega,
@@ -275,6 +277,7 @@ impl<W: Real> Core<W> {
             s_ca,
             q_ca,
             p_ca,
+            at_b,
             ccw,
             sign,
             c_perp,
@@ -291,11 +294,27 @@ impl<W: Real> Core<W> {
     #[inline(always)]
     pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
         if from_a {
-            Anchor::new(&self.a, &self.c_perp, &self.b, &self.inv_d, &self.sign)
+            // A − B = −(B − A) exactly.
+            let minus = self.ab.neg();
+            Anchor::new(
+                &self.a,
+                &self.c_perp,
+                &self.b,
+                (&minus, &self.at_b[0]),
+                &self.inv_d,
+                &self.sign,
+            )
         } else {
             let (along, _, _) = tangent(&self.c, (&self.ca, &self.q_ca), (&self.s_ca, &self.p_ca))
                 .ok_or(reject::ANTIPODAL)?;
-            Anchor::new(&self.c, &along, &self.b, &self.inv_d, &-self.sign.clone())
+            Anchor::new(
+                &self.c,
+                &along,
+                &self.b,
+                (&self.bc, &self.at_b[1]),
+                &self.inv_d,
+                &-self.sign.clone(),
+            )
         }
     }
 
@@ -341,25 +360,24 @@ impl<W: Real> Anchor<W> {
     /// The constants for the end `vertex` of the arc, `along` the unit
     /// tangent there towards the other end; `sign` is the sign of
     /// det(A, B, C) as ±1 for V = A (its opposite for V = C), `inv_d` the
-    /// reciprocal of the common `d = |det|/sin b`.
+    /// reciprocal of the common `d = |det|/sin b`; `v_minus_b` is `V − B`
+    /// and `(|V − B|², V + B, |V + B|²)` the chords the validation formed.
     #[inline(always)]
     fn new(
         vertex: &Vec3<W>,
         along: &Vec3<W>,
         b: &Vec3<W>,
+        (v_minus_b, (q_minus, v_plus_b, q_plus)): (&Vec3<W>, &(W, Vec3<W>, W)),
         inv_d: &W,
         sign: &W,
     ) -> Result<Self, WarpError> {
         let two = W::from_i64(2);
-        let v_minus_b = vertex.sub(b);
-        let v_plus_b = vertex.add(b);
-        let (q_minus, q_plus) = (norm2(&v_minus_b), norm2(&v_plus_b));
         let (t_b, _, _) =
-            tangent(b, (&v_minus_b, &q_minus), (&v_plus_b, &q_plus)).ok_or(reject::ANTIPODAL)?;
-        let s2 = q_minus / W::from_i64(4);
+            tangent(b, (v_minus_b, q_minus), (v_plus_b, q_plus)).ok_or(reject::ANTIPODAL)?;
+        let s2 = q_minus.clone() / W::from_i64(4);
         // sin∠VB·cos(angle at V) = B·[W|V] = (B − V)·[W|V].
         let k = v_minus_b.neg().dot(along);
-        let k1 = q_plus / &two;
+        let k1 = q_plus.clone() / &two;
         // n_b·[W|B] > 0: for V = A, (t_A × B)·t_C ∝ det(A, B, C). t_b ⊥ B,
         // both unit: the cross product is a unit vector up to rounding.
         let n_b = t_b.cross(b).scale(sign);
@@ -369,8 +387,8 @@ impl<W: Real> Anchor<W> {
             k1_d: k1 * inv_d,
             k_d: k * inv_d,
             inv_s2: W::one() / &s2,
-            v_minus_b,
-            v_plus_b,
+            v_minus_b: v_minus_b.clone(),
+            v_plus_b: v_plus_b.clone(),
             t_b,
             n_b,
         })
