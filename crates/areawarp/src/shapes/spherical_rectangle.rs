@@ -30,7 +30,7 @@ use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use geometry::{Geometry, area_density_exact, area_density_in_range};
 use literal::Literal;
-use robust::{Cone, Robust};
+use robust::{Cone, Omega, Robust};
 use std::sync::OnceLock;
 
 /// Which evaluation of the Ureña–Fajardo–King map a [`SphericalRectangle`]
@@ -235,8 +235,9 @@ impl<T: Real> SphericalRectangle<T> {
     ) -> Result<Self, WarpError> {
         let bits = bits.min(T::precision());
         let geometry = wide_geometry(&s, &ex, &ey, &o, bits)?;
-        let robust = Robust::new(&geometry, None);
-        let (omega, inv_omega) = check_range(&geometry, &robust)?;
+        let parts = Omega::new(&geometry);
+        let (omega, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let robust = Robust::from_omega(parts, None);
         let out = SphericalRectangle {
             ey_input: ey,
             inv_omega,
@@ -431,8 +432,9 @@ impl<T: Real> SphericalRectangle<T> {
     ) -> Result<LightSample<T>, WarpError> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
         let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
-        let robust = Robust::new(&geometry, Some(which));
-        let (_, inv_omega) = check_range(&geometry, &robust)?;
+        let parts = Omega::new(&geometry);
+        let (_, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let robust = Robust::from_omega(parts, Some(which));
         Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
     }
 
@@ -450,8 +452,8 @@ impl<T: Real> SphericalRectangle<T> {
         o: &Vec3<T>,
     ) -> Result<T, WarpError> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
-        let robust = Robust::new(&geometry, Some(0));
-        Ok(check_range(&geometry, &robust)?.0)
+        // Ω and the range check alone: not the map's anchors.
+        Ok(check_range(&geometry, &Omega::new(&geometry).omega)?.0)
     }
 
     /// The density in area on the rectangle at the point `p`:
@@ -608,13 +610,13 @@ mod range {
 /// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
 /// non-zero at the nearest and farthest points of the rectangle.
 #[inline(always)]
-fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpError> {
+fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<(T, T), WarpError> {
     let tiny = T::normal_floor();
     let floor = tiny / &T::unit_roundoff();
     if !(g.h.square() >= floor) {
         return Err(range::GRAZING);
     }
-    let omega = r.solid_angle();
+    let omega = omega.clone();
     let inv_omega = T::one() / &omega;
     if !(omega >= floor) || !omega.is_finite() || !inv_omega.is_finite() {
         return Err(if positive(&omega) {
