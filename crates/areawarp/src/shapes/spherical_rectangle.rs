@@ -668,16 +668,21 @@ fn sample_with<T: Real>(
 ) -> LightSample<T> {
     let (u, v) = (clamp_unit(u), clamp_unit(v));
     let (xi, x) = robust.column_at(&u);
-    let (eta, y) = robust.row_at(&x, &v);
-    let point = g.point(&clamp01(&xi), &clamp01(&eta));
-    let direction = g.direction(&x, &y);
+    let row = robust.row_at(&x, &v);
+    let point = g.point(&clamp01(&xi), &clamp01(&row.eta));
+    // The sample's local vector (x, y_v, −h) has the length r = D/√(1 − h_v²)
+    // (r² = D² + y_v², y_v = D h_v/√(1 − h_v²)): its unit vector is
+    // (x/r, h_v, −h/r) with 1/r = √(1 − h_v²)/D, both from the row's values
+    // (no root of x² + y_v² + h², which would wait for y_v).
+    let inv_r = row.c.clone() / &row.dd;
+    let r = row.dd / &row.c;
+    let cos = g.h.clone() * &inv_r;
+    let direction = g.direction(&(x * &inv_r), &row.hv, &cos);
     // pdf_area = cos θ_p / (Ω r²) with cos θ_p = h/r and the world distance
     // r·2^exp, as ((cos θ_p/Ω)·t)·t, t = 2^−exp/r: no spurious overflow or
     // underflow for the densities `check_range` admits.
-    let r = (x.square() + &y.square() + &g.h.square()).sqrt();
-    let c = g.h.clone() / &r;
-    let t = T::exp2i(-g.exp) / &r;
-    let pdf_area = c * inv_omega * &t * &t;
+    let t = T::exp2i(-g.exp) * &inv_r;
+    let pdf_area = cos * inv_omega * &t * &t;
     LightSample {
         point,
         direction,

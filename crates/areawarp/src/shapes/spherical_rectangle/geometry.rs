@@ -359,23 +359,13 @@ impl<T: Real> Geometry<T> {
         self.s.add(&self.ex.scale(xi)).add(&self.ey.scale(eta))
     }
 
-    /// The unit world direction of the local vector `(x, y, −h)`.
-    pub fn direction(&self, x: &T, y: &T) -> Vec3<T> {
-        let r2 = x.square() + &y.square() + &self.h.square();
-        let r = r2.sqrt();
-        if r.is_nan() {
-            // A NaN sample (NaN u or v) stays NaN.
-            return Vec3::new(r.clone(), r.clone(), r);
-        }
-        if !positive(&r) || !r.is_finite() {
-            return self.zhat.neg();
-        }
-        let inv = T::one() / &r;
-        let (a, b, c) = (x.clone() * &inv, y.clone() * &inv, self.h.clone() * &inv);
+    /// The world direction `a x̂ + b ŷ − c ẑ` of the local unit vector
+    /// `(a, b, −c)`.
+    pub fn direction(&self, a: &T, b: &T, c: &T) -> Vec3<T> {
         Vec3::new(
             a.clone() * &self.xhat.x + &(b.clone() * &self.yhat.x) - &(c.clone() * &self.zhat.x),
             a.clone() * &self.xhat.y + &(b.clone() * &self.yhat.y) - &(c.clone() * &self.zhat.y),
-            a * &self.xhat.z + &(b * &self.yhat.z) - &(c * &self.zhat.z),
+            a.clone() * &self.xhat.z + &(b.clone() * &self.yhat.z) - &(c.clone() * &self.zhat.z),
         )
     }
 

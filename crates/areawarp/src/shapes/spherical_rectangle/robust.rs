@@ -37,6 +37,21 @@ pub(super) struct Column<T> {
     pub r1: T,
 }
 
+/// The row of a sample ([`Robust::row_at`]).
+#[derive(Clone, Debug)]
+pub(super) struct Row<T> {
+    /// `η = (y_v − y₀)/(y₁ − y₀)`.
+    pub eta: T,
+    /// `h_v = y_v/√(D² + y_v²)`: the sample's unit direction's component
+    /// along ŷ.
+    pub hv: T,
+    /// `D = √(x² + h²)`, the distance to the column's foot line.
+    pub dd: T,
+    /// `√(1 − h_v²) = D/r` (computed as a sum of positive terms), `r` the
+    /// distance to the sample.
+    pub c: T,
+}
+
 /// The constants of one end of `[x₀, x₁]`, mirrored (`x → −x`) for the end
 /// `x₁` so that the code walks inwards with increasing `x̃` from both ends.
 #[derive(Clone, Debug)]
@@ -508,10 +523,12 @@ impl<T: Real> Robust<T> {
         }
     }
 
-    /// The row of the sample in column `x`: `(η, y_v)` with
-    /// `η = (y_v − y₀)/(y₁ − y₀)`, for `v ∈ [0, 1]`.
+    /// The row of the sample in column `x`, for `v ∈ [0, 1]`: `η` with
+    /// `η = (y_v − y₀)/(y₁ − y₀)`, and the sample's `h_v`, `D = √(x² + h²)`
+    /// and `√(1 − h_v²)`, from which its direction and distance follow
+    /// without `y_v` itself ([`Row`]).
     #[inline(always)]
-    pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
+    pub fn row_at(&self, x: &T, v: &T) -> Row<T> {
         let one = T::one();
         let x2 = x.square();
         let d2 = x2.clone() + &self.h2;
@@ -540,18 +557,28 @@ impl<T: Real> Robust<T> {
             (-s1, r1, -self.y1.clone(), vm * &dh, true)
         };
         let s = se.clone() + &dsv;
-        let yt = dd.clone() * &s / &c;
         let dy = if se < T::zero() && s > T::zero() {
-            yt.clone() - &ye
+            // y_v (mirrored: −y_v) = D h_v/√(1 − h_v²).
+            dd.clone() * &s / &c - &ye
         } else if se == T::zero() {
-            re.square() * &dsv / &(dd * &c)
+            re.square() * &dsv / &(dd.clone() * &c)
         } else {
-            re.square() * &dsv * &(s.clone() + &se) / &((s * &dd + &(se * &re * &c)) * &c)
+            re.square() * &dsv * &(s.clone() + &se) / &((s.clone() * &dd + &(se * &re * &c)) * &c)
         };
         if mirrored {
-            (one - &(dy * &self.inv_ly), -yt)
+            Row {
+                eta: one - &(dy * &self.inv_ly),
+                hv: -s,
+                dd,
+                c,
+            }
         } else {
-            (dy * &self.inv_ly, yt)
+            Row {
+                eta: dy * &self.inv_ly,
+                hv: s,
+                dd,
+                c,
+            }
         }
     }
 
