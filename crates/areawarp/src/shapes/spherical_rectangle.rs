@@ -237,7 +237,7 @@ impl<T: Real> SphericalRectangle<T> {
         let geometry = wide_geometry(&s, &ex, &ey, &o, bits)?;
         let parts = Omega::new(&geometry);
         let (omega, inv_omega) = check_range(&geometry, &parts.omega)?;
-        let robust = Robust::from_omega(parts, None);
+        let robust = Robust::from_omega(&geometry, parts, None);
         let out = SphericalRectangle {
             ey_input: ey,
             inv_omega,
@@ -434,7 +434,7 @@ impl<T: Real> SphericalRectangle<T> {
         let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
         let parts = Omega::new(&geometry);
         let (_, inv_omega) = check_range(&geometry, &parts.omega)?;
-        let robust = Robust::from_omega(parts, Some(which));
+        let robust = Robust::from_omega(&geometry, parts, Some(which));
         Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
     }
 

@@ -185,7 +185,6 @@ fn complements<T: Real>(col: &Column<T>, x: &T, t: &T, k: &Lengths<'_, T>) -> (T
 pub(super) struct Omega<T> {
     x0: T,
     x1: T,
-    lx: T,
     y0: T,
     y1: T,
     ly: T,
@@ -278,7 +277,6 @@ impl<T: Real> Omega<T> {
         Omega {
             x0,
             x1,
-            lx,
             y0,
             y1,
             ly,
@@ -348,14 +346,12 @@ impl<T: Real> Robust<T> {
     /// `u ≤ 1/2`; 1: `x₁`) is computed (it stands in both places): what one
     /// sample needs.
     #[inline(always)]
-    pub fn from_omega(o: Omega<T>, only_anchor: Option<usize>) -> Self {
-        let one = T::one();
+    pub fn from_omega(g: &Geometry<T>, o: Omega<T>, only_anchor: Option<usize>) -> Self {
         let two = T::from_i64(2);
         let half = T::from_ratio(1, 2);
         let Omega {
             x0,
             x1,
-            lx,
             y0,
             y1,
             ly,
@@ -409,8 +405,9 @@ impl<T: Real> Robust<T> {
             ],
         };
         Robust {
-            inv_lx: one.clone() / &lx,
-            inv_ly: one / &ly,
+            // 1/ℓx, 1/ℓy from the frame (no division here).
+            inv_lx: g.inv_lx.clone(),
+            inv_ly: g.inv_ly.clone(),
             y_sum: y1.clone() + &y0,
             y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
             k_x: two * &l0 * &l1 * &sdcd * &sd_scale,
