@@ -30,7 +30,7 @@ use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use geometry::{Geometry, area_density_exact, area_density_in_range};
 use literal::Literal;
-use robust::{Cone, Robust};
+use robust::{Cone, Omega, Robust};
 use std::sync::OnceLock;
 
 /// Which evaluation of the Ureña–Fajardo–King map a [`SphericalRectangle`]
@@ -235,8 +235,9 @@ impl<T: Real> SphericalRectangle<T> {
     ) -> Result<Self, WarpError> {
         let bits = bits.min(T::precision());
         let geometry = wide_geometry(&s, &ex, &ey, &o, bits)?;
-        let robust = Robust::new(&geometry, None);
-        let (omega, inv_omega) = check_range(&geometry, &robust)?;
+        let parts = Omega::new(&geometry);
+        let (omega, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let robust = Robust::from_omega(&geometry, parts, None);
         let out = SphericalRectangle {
             ey_input: ey,
             inv_omega,
@@ -431,8 +432,9 @@ impl<T: Real> SphericalRectangle<T> {
     ) -> Result<LightSample<T>, WarpError> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
         let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
-        let robust = Robust::new(&geometry, Some(which));
-        let (_, inv_omega) = check_range(&geometry, &robust)?;
+        let parts = Omega::new(&geometry);
+        let (_, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let robust = Robust::from_omega(&geometry, parts, Some(which));
         Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
     }
 
@@ -450,8 +452,8 @@ impl<T: Real> SphericalRectangle<T> {
         o: &Vec3<T>,
     ) -> Result<T, WarpError> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
-        let robust = Robust::new(&geometry, Some(0));
-        Ok(check_range(&geometry, &robust)?.0)
+        // Ω and the range check alone: not the map's anchors.
+        Ok(check_range(&geometry, &Omega::new(&geometry).omega)?.0)
     }
 
     /// The density in area on the rectangle at the point `p`:
@@ -608,13 +610,13 @@ mod range {
 /// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
 /// non-zero at the nearest and farthest points of the rectangle.
 #[inline(always)]
-fn check_range<T: Real>(g: &Geometry<T>, r: &Robust<T>) -> Result<(T, T), WarpError> {
+fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<(T, T), WarpError> {
     let tiny = T::normal_floor();
     let floor = tiny / &T::unit_roundoff();
     if !(g.h.square() >= floor) {
         return Err(range::GRAZING);
     }
-    let omega = r.solid_angle();
+    let omega = omega.clone();
     let inv_omega = T::one() / &omega;
     if !(omega >= floor) || !omega.is_finite() || !inv_omega.is_finite() {
         return Err(if positive(&omega) {
@@ -666,16 +668,21 @@ fn sample_with<T: Real>(
 ) -> LightSample<T> {
     let (u, v) = (clamp_unit(u), clamp_unit(v));
     let (xi, x) = robust.column_at(&u);
-    let (eta, y) = robust.row_at(&x, &v);
-    let point = g.point(&clamp01(&xi), &clamp01(&eta));
-    let direction = g.direction(&x, &y);
+    let row = robust.row_at(&x, &v);
+    let point = g.point(&clamp01(&xi), &clamp01(&row.eta));
+    // The sample's local vector (x, y_v, −h) has the length r = D/√(1 − h_v²)
+    // (r² = D² + y_v², y_v = D h_v/√(1 − h_v²)): its unit vector is
+    // (x/r, h_v, −h/r) with 1/r = √(1 − h_v²)/D, both from the row's values
+    // (no root of x² + y_v² + h², which would wait for y_v).
+    let inv_r = row.c.clone() / &row.dd;
+    let r = row.dd / &row.c;
+    let cos = g.h.clone() * &inv_r;
+    let direction = g.direction(&(x * &inv_r), &row.hv, &cos);
     // pdf_area = cos θ_p / (Ω r²) with cos θ_p = h/r and the world distance
     // r·2^exp, as ((cos θ_p/Ω)·t)·t, t = 2^−exp/r: no spurious overflow or
     // underflow for the densities `check_range` admits.
-    let r = (x.square() + &y.square() + &g.h.square()).sqrt();
-    let c = g.h.clone() / &r;
-    let t = T::exp2i(-g.exp) / &r;
-    let pdf_area = c * inv_omega * &t * &t;
+    let t = T::exp2i(-g.exp) * &inv_r;
+    let pdf_area = cos * inv_omega * &t * &t;
     LightSample {
         point,
         direction,

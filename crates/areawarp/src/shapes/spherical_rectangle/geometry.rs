@@ -42,6 +42,10 @@ pub(super) struct Geometry<T: Real> {
     pub y0: T,
     /// `|e_y|` (squared up), scaled.
     pub ly: T,
+    /// `1/ℓx` and `1/ℓy` (scaled): the frame's reciprocals times `2^exp`
+    /// (exact), so that the map's constants need no division of their own.
+    pub inv_lx: T,
+    pub inv_ly: T,
     /// `h = −(s − o)·ẑ > 0`, scaled.
     pub h: T,
     /// The scale of the local lengths: local = world · 2^(−exp).
@@ -99,9 +103,11 @@ fn degenerate(what: &'static str) -> WarpError {
 }
 
 /// The frame along the edges: `|e_x|`, `x̂`, the squared-up `e_y`, its
-/// length, `ŷ` and `x̂ × ŷ`.
+/// length, `ŷ` and `x̂ × ŷ`, and the reciprocals of the lengths.
 struct Frame<T> {
     lx_world: T,
+    inv_lx: T,
+    inv_ly: T,
     xhat: Vec3<T>,
     ey_perp: Vec3<T>,
     ly_world: T,
@@ -153,6 +159,8 @@ impl<T: Real> Frame<T> {
             zplus: xhat.cross(&yhat),
             xhat,
             yhat,
+            inv_lx,
+            inv_ly,
             lx_world,
             ey_perp,
             ly_world,
@@ -177,7 +185,8 @@ impl<T: Real> Frame<T> {
         if !ey_len.is_finite() {
             return Err(non_finite("length of edge ey"));
         }
-        let xhat = ex.scale(&(one.clone() / &lx_world));
+        let inv_lx = one.clone() / &lx_world;
+        let xhat = ex.scale(&inv_lx);
         let along = xhat.dot(ey);
         let cosine = along.clone() / &ey_len;
         if cosine.is_nan() || cosine.abs() > *tol {
@@ -185,10 +194,13 @@ impl<T: Real> Frame<T> {
         }
         let ey_perp = ey.sub(&xhat.scale(&along));
         let ly_world = norm(&ey_perp);
-        let yhat = ey_perp.scale(&(one / &ly_world));
+        let inv_ly = one / &ly_world;
+        let yhat = ey_perp.scale(&inv_ly);
         let zplus = xhat.cross(&yhat);
         Ok(Frame {
             lx_world,
+            inv_lx,
+            inv_ly,
             xhat,
             ey_perp,
             ly_world,
@@ -232,6 +244,8 @@ impl<T: Real> Geometry<T> {
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
         let Frame {
             lx_world,
+            inv_lx,
+            inv_ly,
             xhat,
             ey_perp,
             ly_world,
@@ -289,6 +303,8 @@ impl<T: Real> Geometry<T> {
             lx: lx_world * &scale,
             y0,
             ly: ly_world * &scale,
+            inv_lx: inv_lx * &T::exp2i(e),
+            inv_ly: inv_ly * &T::exp2i(e),
             h: h_world.clone() * &scale,
             s,
             ex,
@@ -317,6 +333,8 @@ impl<T: Real> Geometry<T> {
             lx: N::narrow(&self.lx),
             y0: N::narrow(&self.y0),
             ly: N::narrow(&self.ly),
+            inv_lx: N::narrow(&self.inv_lx),
+            inv_ly: N::narrow(&self.inv_ly),
             h: N::narrow(&self.h),
             exp: self.exp,
             wide: WideFrame {
@@ -359,23 +377,13 @@ impl<T: Real> Geometry<T> {
         self.s.add(&self.ex.scale(xi)).add(&self.ey.scale(eta))
     }
 
-    /// The unit world direction of the local vector `(x, y, −h)`.
-    pub fn direction(&self, x: &T, y: &T) -> Vec3<T> {
-        let r2 = x.square() + &y.square() + &self.h.square();
-        let r = r2.sqrt();
-        if r.is_nan() {
-            // A NaN sample (NaN u or v) stays NaN.
-            return Vec3::new(r.clone(), r.clone(), r);
-        }
-        if !positive(&r) || !r.is_finite() {
-            return self.zhat.neg();
-        }
-        let inv = T::one() / &r;
-        let (a, b, c) = (x.clone() * &inv, y.clone() * &inv, self.h.clone() * &inv);
+    /// The world direction `a x̂ + b ŷ − c ẑ` of the local unit vector
+    /// `(a, b, −c)`.
+    pub fn direction(&self, a: &T, b: &T, c: &T) -> Vec3<T> {
         Vec3::new(
             a.clone() * &self.xhat.x + &(b.clone() * &self.yhat.x) - &(c.clone() * &self.zhat.x),
             a.clone() * &self.xhat.y + &(b.clone() * &self.yhat.y) - &(c.clone() * &self.zhat.y),
-            a * &self.xhat.z + &(b * &self.yhat.z) - &(c * &self.zhat.z),
+            a.clone() * &self.xhat.z + &(b.clone() * &self.yhat.z) - &(c.clone() * &self.zhat.z),
         )
     }
 

@@ -37,6 +37,21 @@ pub(super) struct Column<T> {
     pub r1: T,
 }
 
+/// The row of a sample ([`Robust::row_at`]).
+#[derive(Clone, Debug)]
+pub(super) struct Row<T> {
+    /// `η = (y_v − y₀)/(y₁ − y₀)`.
+    pub eta: T,
+    /// `h_v = y_v/√(D² + y_v²)`: the sample's unit direction's component
+    /// along ŷ.
+    pub hv: T,
+    /// `D = √(x² + h²)`, the distance to the column's foot line.
+    pub dd: T,
+    /// `√(1 − h_v²) = D/r` (computed as a sum of positive terms), `r` the
+    /// distance to the sample.
+    pub c: T,
+}
+
 /// The constants of one end of `[x₀, x₁]`, mirrored (`x → −x`) for the end
 /// `x₁` so that the code walks inwards with increasing `x̃` from both ends.
 #[derive(Clone, Debug)]
@@ -163,14 +178,39 @@ fn complements<T: Real>(col: &Column<T>, x: &T, t: &T, k: &Lengths<'_, T>) -> (T
     }
 }
 
-impl<T: Real> Robust<T> {
-    /// The constants of the rectangle of `g`; with `only_anchor = Some(i)`
-    /// only the anchor `i` (0: `x₀`, for `u ≤ 1/2`; 1: `x₁`) is computed
-    /// (it stands in both places): what one sample needs.
+/// The quantities up to the solid angle Ω: the lengths, the end columns,
+/// `S_d`, `C_d` and Ω itself. What the range check and the one-shot solid
+/// angle need; [`Robust::from_omega`] completes them to the map's constants.
+#[derive(Clone, Debug)]
+pub(super) struct Omega<T> {
+    x0: T,
+    x1: T,
+    y0: T,
+    y1: T,
+    ly: T,
+    h: T,
+    h2: T,
+    l0: T,
+    l1: T,
+    l0sq: T,
+    l1sq: T,
+    sigma: T,
+    col0: Column<T>,
+    col1: Column<T>,
+    sd: T,
+    cd: T,
+    sdcd: T,
+    sd2: T,
+    cd2: T,
+    /// Ω.
+    pub omega: T,
+}
+
+impl<T: Real> Omega<T> {
+    /// Ω of the rectangle of `g` and what it is computed from.
     #[inline(always)]
-    pub fn new(g: &Geometry<T>, only_anchor: Option<usize>) -> Self {
+    pub fn new(g: &Geometry<T>) -> Self {
         let one = T::one();
-        let two = T::from_i64(2);
         let half = T::from_ratio(1, 2);
         let (x0, lx, y0, ly, h) = (
             g.x0.clone(),
@@ -226,13 +266,118 @@ impl<T: Real> Robust<T> {
             e0.clone() * &e1 + &(y0.clone() * &y1)
         };
         // One division for both: 1/(2√(ℓ₀ℓ₁(ℓ₀ + h)(ℓ₁ + h))).
-        let inv_den = half.clone() / &(l0.clone() * &l1 * &e0 * &e1).sqrt();
+        let inv_den = half / &(l0.clone() * &l1 * &e0 * &e1).sqrt();
         let sd = num_s * &inv_den;
         let cd = num_c * &inv_den;
         let sdcd = sd.clone() * &cd;
         let sd2 = sd.square();
         let cd2 = cd.square();
+        let dw = omega_diff(&lengths, &x0, &col0, &x1, &col1, &lx);
+        let omega = solid_angle_between(&sdcd, &sd2, &cd2, &col0, &col1, &dw);
+        Omega {
+            x0,
+            x1,
+            y0,
+            y1,
+            ly,
+            h,
+            h2,
+            l0,
+            l1,
+            l0sq,
+            l1sq,
+            sigma,
+            col0,
+            col1,
+            sd,
+            cd,
+            sdcd,
+            sd2,
+            cd2,
+            omega,
+        }
+    }
+}
 
+/// `ω(x_b) − ω(x_a)` for `x_a ≤ x_b`, `len = x_b − x_a` (given exactly).
+#[inline(always)]
+fn omega_diff<T: Real>(
+    k: &Lengths<'_, T>,
+    xa: &T,
+    ca: &Column<T>,
+    xb: &T,
+    cb: &Column<T>,
+    len: &T,
+) -> T {
+    if *len == T::zero() {
+        return T::zero();
+    }
+    let zero = T::zero();
+    if (*xa > zero && *xb > zero) || (*xa < zero && *xb < zero) {
+        // x_b rⱼ(x_a) − x_a rⱼ(x_b) = ℓⱼ² (x_b − x_a)(x_b + x_a) / (x_b rⱼ(x_a) + x_a rⱼ(x_b)).
+        let t = k.l1.clone() * k.l0sq / &(xb.clone() * &ca.r0 + &(xa.clone() * &cb.r0))
+            + &(k.l0.clone() * k.l1sq / &(xb.clone() * &ca.r1 + &(xa.clone() * &cb.r1)));
+        k.sigma.clone() * len * &(xb.clone() + xa) * &t / &(ca.n.clone() * &cb.n)
+    } else {
+        cb.w.clone() - &ca.w
+    }
+}
+
+/// `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`.
+#[inline(always)]
+fn solid_angle_between<T: Real>(
+    sdcd: &T,
+    sd2: &T,
+    cd2: &T,
+    ca: &Column<T>,
+    cb: &Column<T>,
+    dw: &T,
+) -> T {
+    let y = sdcd.clone() * dw;
+    let x = cd2.clone() + &(sd2.clone() * &ca.w * &cb.w);
+    // y ≥ 0: by atan(y/x) for x > 0 (half angle below π/2), about half
+    // of atan2's cost (see `twice_atan2_nonneg`).
+    twice_atan2_nonneg(&y, &x)
+}
+
+impl<T: Real> Robust<T> {
+    /// The constants of the rectangle whose quantities up to Ω are `o`;
+    /// with `only_anchor = Some(i)` only the anchor `i` (0: `x₀`, for
+    /// `u ≤ 1/2`; 1: `x₁`) is computed (it stands in both places): what one
+    /// sample needs.
+    #[inline(always)]
+    pub fn from_omega(g: &Geometry<T>, o: Omega<T>, only_anchor: Option<usize>) -> Self {
+        let two = T::from_i64(2);
+        let half = T::from_ratio(1, 2);
+        let Omega {
+            x0,
+            x1,
+            y0,
+            y1,
+            ly,
+            h,
+            h2,
+            l0,
+            l1,
+            l0sq,
+            l1sq,
+            sigma,
+            col0,
+            col1,
+            sd,
+            cd,
+            sdcd,
+            sd2,
+            cd2,
+            omega,
+        } = o;
+        let lengths = Lengths {
+            l0: &l0,
+            l1: &l1,
+            l0sq: &l0sq,
+            l1sq: &l1sq,
+            sigma: &sigma,
+        };
         // σ = 2^k, k = −⌊log₂ S_d⌋: the anchors' sines of half angles that
         // are O(S_d), and the sample's sin(τ/2), are stored times σ, so that
         // the products of four of them in `column_at` do not underflow when
@@ -259,12 +404,13 @@ impl<T: Real> Robust<T> {
                 anchor(&col1, &x1, true, &sd, &cd, &sd_scale, &lengths),
             ],
         };
-        let mut r = Robust {
-            inv_lx: one.clone() / &lx,
-            inv_ly: one.clone() / &ly,
+        Robust {
+            // 1/ℓx, 1/ℓy from the frame (no division here).
+            inv_lx: g.inv_lx.clone(),
+            inv_ly: g.inv_ly.clone(),
             y_sum: y1.clone() + &y0,
             y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
-            k_x: two.clone() * &l0 * &l1 * &sdcd * &sd_scale,
+            k_x: two * &l0 * &l1 * &sdcd * &sd_scale,
             anchors,
             sd_scale,
             inv_scale2,
@@ -287,18 +433,14 @@ impl<T: Real> Robust<T> {
             cd2,
             col0,
             col1,
-            omega: T::zero(),
-            half_omega: T::zero(),
-        };
-        let dw = r.omega_diff(&r.x0, &r.col0, &r.x1, &r.col1, &lx);
-        r.omega = r.solid_angle_between(&r.col0, &r.col1, &dw);
-        r.half_omega = r.omega.clone() * &half;
-        r
+            half_omega: omega.clone() * &half,
+            omega,
+        }
     }
 
-    /// The solid angle Ω of the rectangle.
-    pub fn solid_angle(&self) -> T {
-        self.omega.clone()
+    /// [`solid_angle_between`] with this rectangle's `S_d`, `C_d`.
+    fn between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
+        solid_angle_between(&self.sdcd, &self.sd2, &self.cd2, ca, cb, dw)
     }
 
     fn lengths(&self) -> Lengths<'_, T> {
@@ -309,33 +451,6 @@ impl<T: Real> Robust<T> {
             l1sq: &self.l1sq,
             sigma: &self.sigma,
         }
-    }
-
-    /// `ω(x_b) − ω(x_a)` for `x_a ≤ x_b`, `len = x_b − x_a` (given exactly).
-    #[inline(always)]
-    fn omega_diff(&self, xa: &T, ca: &Column<T>, xb: &T, cb: &Column<T>, len: &T) -> T {
-        if *len == T::zero() {
-            return T::zero();
-        }
-        let zero = T::zero();
-        if (*xa > zero && *xb > zero) || (*xa < zero && *xb < zero) {
-            // x_b rⱼ(x_a) − x_a rⱼ(x_b) = ℓⱼ² (x_b − x_a)(x_b + x_a) / (x_b rⱼ(x_a) + x_a rⱼ(x_b)).
-            let t = self.l1.clone() * &self.l0sq / &(xb.clone() * &ca.r0 + &(xa.clone() * &cb.r0))
-                + &(self.l0.clone() * &self.l1sq / &(xb.clone() * &ca.r1 + &(xa.clone() * &cb.r1)));
-            self.sigma.clone() * len * &(xb.clone() + xa) * &t / &(ca.n.clone() * &cb.n)
-        } else {
-            cb.w.clone() - &ca.w
-        }
-    }
-
-    /// `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`.
-    #[inline(always)]
-    fn solid_angle_between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
-        let y = self.sdcd.clone() * dw;
-        let x = self.cd2.clone() + &(self.sd2.clone() * &ca.w * &cb.w);
-        // y ≥ 0: by atan(y/x) for x > 0 (half angle below π/2), about half
-        // of atan2's cost (see `twice_atan2_nonneg`).
-        twice_atan2_nonneg(&y, &x)
     }
 
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
@@ -405,10 +520,12 @@ impl<T: Real> Robust<T> {
         }
     }
 
-    /// The row of the sample in column `x`: `(η, y_v)` with
-    /// `η = (y_v − y₀)/(y₁ − y₀)`, for `v ∈ [0, 1]`.
+    /// The row of the sample in column `x`, for `v ∈ [0, 1]`: `η` with
+    /// `η = (y_v − y₀)/(y₁ − y₀)`, and the sample's `h_v`, `D = √(x² + h²)`
+    /// and `√(1 − h_v²)`, from which its direction and distance follow
+    /// without `y_v` itself ([`Row`]).
     #[inline(always)]
-    pub fn row_at(&self, x: &T, v: &T) -> (T, T) {
+    pub fn row_at(&self, x: &T, v: &T) -> Row<T> {
         let one = T::one();
         let x2 = x.square();
         let d2 = x2.clone() + &self.h2;
@@ -437,18 +554,28 @@ impl<T: Real> Robust<T> {
             (-s1, r1, -self.y1.clone(), vm * &dh, true)
         };
         let s = se.clone() + &dsv;
-        let yt = dd.clone() * &s / &c;
         let dy = if se < T::zero() && s > T::zero() {
-            yt.clone() - &ye
+            // y_v (mirrored: −y_v) = D h_v/√(1 − h_v²).
+            dd.clone() * &s / &c - &ye
         } else if se == T::zero() {
-            re.square() * &dsv / &(dd * &c)
+            re.square() * &dsv / &(dd.clone() * &c)
         } else {
-            re.square() * &dsv * &(s.clone() + &se) / &((s * &dd + &(se * &re * &c)) * &c)
+            re.square() * &dsv * &(s.clone() + &se) / &((s.clone() * &dd + &(se * &re * &c)) * &c)
         };
         if mirrored {
-            (one - &(dy * &self.inv_ly), -yt)
+            Row {
+                eta: one - &(dy * &self.inv_ly),
+                hv: -s,
+                dd,
+                c,
+            }
         } else {
-            (dy * &self.inv_ly, yt)
+            Row {
+                eta: dy * &self.inv_ly,
+                hv: s,
+                dd,
+                c,
+            }
         }
     }
 
@@ -459,11 +586,11 @@ impl<T: Real> Robust<T> {
         let one = T::one();
         let col = column(x, &self.lengths());
         let u = if ax <= bx {
-            let dw = self.omega_diff(&self.x0, &self.col0, x, &col, ax);
-            self.solid_angle_between(&self.col0, &col, &dw) / &self.omega
+            let dw = omega_diff(&self.lengths(), &self.x0, &self.col0, x, &col, ax);
+            self.between(&self.col0, &col, &dw) / &self.omega
         } else {
-            let dw = self.omega_diff(x, &col, &self.x1, &self.col1, bx);
-            one.clone() - &(self.solid_angle_between(&col, &self.col1, &dw) / &self.omega)
+            let dw = omega_diff(&self.lengths(), x, &col, &self.x1, &self.col1, bx);
+            one.clone() - &(self.between(&col, &self.col1, &dw) / &self.omega)
         };
         let d2 = x.square() + &self.h2;
         let ry = (d2.clone() + &y.square()).sqrt();
