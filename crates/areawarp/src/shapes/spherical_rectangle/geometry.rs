@@ -6,7 +6,7 @@
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
-use crate::shapes::wide::{floor_log2, narrow3, unit_vector, widen3};
+use crate::shapes::wide::{check_finite, floor_log2, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
 /// How far from perpendicular the edges may be, in units of roundoff of the
@@ -221,26 +221,12 @@ impl<T: Real> Geometry<T> {
         o: Vec3<T>,
         bits: u32,
     ) -> Result<Self, WarpError> {
-        // One test for the twelve numbers (their sum is finite only if each
-        // is; a finite sum that overflows falls through to the four tests
-        // that name the culprit, and passes them).
-        let sum = [&s, &ex, &ey, &o]
-            .iter()
-            .fold(T::zero(), |acc, v| acc + &v.x + &v.y + &v.z);
-        if !sum.is_finite() {
-            if !s.is_finite() {
-                return Err(non_finite("corner s"));
-            }
-            if !ex.is_finite() {
-                return Err(non_finite("edge ex"));
-            }
-            if !ey.is_finite() {
-                return Err(non_finite("edge ey"));
-            }
-            if !o.is_finite() {
-                return Err(non_finite("observer o"));
-            }
-        }
+        check_finite([
+            (&s, "corner s"),
+            (&ex, "edge ex"),
+            (&ey, "edge ey"),
+            (&o, "observer o"),
+        ])?;
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
         let Frame {
             lx_world,
