@@ -11,10 +11,13 @@
 //!   (`sample_once`, no shape kept);
 //! - `solid-angle`: the one-shot solid angle (the pdf is `1/Ω`) per shading
 //!   point, no shape built;
-//! - `solid-angle-textbook` (triangle): the same solid angle as renderers
-//!   write it, unvalidated Van Oosterom–Strackee in `T` (pbrt-v4's formula),
-//!   the parity reference for `solid-angle`
-//!   (`python3 scripts/criterion-ratios triangle/f solid-angle-textbook`);
+//! - `solid-angle-textbook`: the same solid angle as renderers write it,
+//!   unvalidated, in `T`: Van Oosterom–Strackee for the triangle (pbrt-v4's
+//!   formula), Girard's sum of the four planes' angles for the rectangle
+//!   (pbrt-v4's `SphericalQuadArea`, the paper's Appendix B); the parity
+//!   reference for `solid-angle`
+//!   (`python3 scripts/criterion-ratios triangle/f solid-angle-textbook`,
+//!   `… rectangle/f solid-angle-textbook`);
 //! - `build`: the full constructor per shading point, for reference.
 //!
 //! ```text
@@ -54,6 +57,35 @@ fn textbook_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
     let (a, b, c) = (unit(a), unit(b), unit(c));
     let den = T::one() + &a.dot(&b) + &a.dot(&c) + &b.dot(&c);
     (a.dot(&b.cross(&c)).atan2(&den) * &T::from_i64(2)).abs()
+}
+
+/// The solid angle of a rectangle as a renderer writes it without
+/// validation (Girard's theorem, as pbrt-v4's `SphericalQuadArea` and the
+/// paper's Appendix B; our own code): the unit normals of the four planes
+/// through the observer and an edge, the interior angles `acos(−n_i·n_j)`
+/// of consecutive planes, `|Σγ − 2π|`.
+#[inline]
+fn textbook_rectangle_solid_angle<T: Real>(
+    s: &Vec3<T>,
+    ex: &Vec3<T>,
+    ey: &Vec3<T>,
+    o: &Vec3<T>,
+) -> T {
+    let p0 = s.sub(o);
+    let p1 = p0.add(ex);
+    let p2 = p1.add(ey);
+    let p3 = p0.add(ey);
+    let unit = |v: Vec3<T>| v.scale(&(T::one() / &v.dot(&v).sqrt()));
+    let n = [
+        unit(p0.cross(&p1)),
+        unit(p1.cross(&p2)),
+        unit(p2.cross(&p3)),
+        unit(p3.cross(&p0)),
+    ];
+    let angle = |a: &Vec3<T>, b: &Vec3<T>| (-a.dot(b)).clamp(&-T::one(), &T::one()).acos();
+    let sum =
+        angle(&n[3], &n[0]) + &angle(&n[0], &n[1]) + &angle(&n[1], &n[2]) + &angle(&n[2], &n[3]);
+    (sum - &(T::pi() * &T::from_i64(2))).abs()
 }
 
 fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
@@ -160,6 +192,21 @@ fn rectangle_in<T: Real>(c: &mut Criterion, name: &str) {
             shapes.iter().fold(T::zero(), |acc, [s, ex, ey, o]| {
                 acc + &SphericalRectangle::solid_angle_of(black_box(s), ex, ey, black_box(o))
                     .unwrap()
+            })
+        })
+    });
+    // The reference computes the same quantity (to its own accuracy).
+    for [s, ex, ey, o] in &shapes {
+        let ours = SphericalRectangle::solid_angle_of(s, ex, ey, o)
+            .unwrap()
+            .to_f64();
+        let book = textbook_rectangle_solid_angle(s, ex, ey, o).to_f64();
+        assert!((ours - book).abs() <= 1e-3 * ours, "{ours} {book}");
+    }
+    g.bench_function("solid-angle-textbook", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, [s, ex, ey, o]| {
+                acc + &textbook_rectangle_solid_angle(black_box(s), ex, ey, black_box(o))
             })
         })
     });
