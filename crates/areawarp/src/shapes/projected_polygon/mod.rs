@@ -8,6 +8,7 @@ mod coincident;
 mod geometry;
 mod lune;
 mod narrow;
+mod ranges;
 #[cfg(test)]
 mod reference;
 #[cfg(test)]
@@ -639,7 +640,15 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
                 )
             }
         };
-        let (r2, z2) = lune.sample(&self.edges, &self.pairs, side, &c, &s, &clamp_unit(v));
+        let (r2, z2) = lune.sample(
+            &self.edges,
+            &self.pairs,
+            &self.arcs,
+            side,
+            &c,
+            &s,
+            &clamp_unit(v),
+        );
         let r = r2.sqrt();
         let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
         match &self.frame {
