@@ -165,8 +165,10 @@ pub struct ProjectedPolygon<T> {
     edges: Vec<LuneEdge<T>>,
     pairs: Vec<Pair<T>>,
     /// The lunes of positive area, by azimuth, with their fitted inverse
-    /// marginals (computed on first use, [`ProjectedPolygon::fit`]).
-    active: Vec<ActiveLune<T>>,
+    /// marginals (the list made at the first sample,
+    /// [`ProjectedPolygon::active`]; each fit at the first sample in its
+    /// lune, [`ProjectedPolygon::fit`]).
+    active: OnceLock<Vec<ActiveLune<T>>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
@@ -359,7 +361,6 @@ impl<T: Real> ProjectedPolygon<T> {
             pairs,
             measure,
         } = built;
-        let active = ActiveLune::of(&lunes);
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -368,7 +369,7 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
-            active,
+            active: OnceLock::new(),
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),
@@ -414,7 +415,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// intervals between consecutive vertex meridians that the polygon
     /// covers).
     pub fn lune_count(&self) -> usize {
-        self.active.len()
+        self.active().len()
     }
 
     /// The largest number of edges crossing one lune (2 for a convex
@@ -432,18 +433,19 @@ impl<T: Real> ProjectedPolygon<T> {
         let u = clamp_unit(u);
         let half = T::from_ratio(1, 2);
         let (zero, one) = (T::zero(), T::one());
-        let na = self.active.len();
+        let active = self.active();
+        let na = active.len();
         let t = u.clone() * &self.measure;
         let t_rev = (one.clone() - &u) * &self.measure;
         let k = if u <= half {
-            self.active[..na - 1].partition_point(|a| {
+            active[..na - 1].partition_point(|a| {
                 let lune = &self.lunes[a.lune];
                 lune.cum_start.clone() + &lune.area <= t
             })
         } else {
-            self.active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
+            active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
         };
-        let lune = &self.lunes[self.active[k].lune];
+        let lune = &self.lunes[active[k].lune];
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
         if y <= self.fit(k)[0].fh {
             (k, Side::Start, y)
@@ -453,12 +455,18 @@ impl<T: Real> ProjectedPolygon<T> {
         }
     }
 
+    /// The lunes of positive area, by azimuth: listed at the first sample
+    /// (not by the constructor, which `measure` alone does not need).
+    fn active(&self) -> &[ActiveLune<T>] {
+        self.active.get_or_init(|| ActiveLune::of(&self.lunes))
+    }
+
     /// The fitted inverse marginal of active lune `k`, from the start and
     /// the end, computed the first time a sample falls in the lune: most of
     /// the construction's cost otherwise, and a renderer that builds the
     /// sampler for a few samples pays only for the lunes it visits.
     fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
-        let a = &self.active[k];
+        let a = &self.active()[k];
         a.fit
             .get_or_init(|| fit_lune(&self.lunes[a.lune], &self.edges, &self.pairs))
     }
@@ -476,7 +484,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// inversion, in the transformed half-marginal G of [`SideFit`].
     fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
         let fit = &self.fit(k)[side as usize];
-        let cdf = fit.half(self.lune_cdf(self.active[k].lune, side));
+        let cdf = fit.half(self.lune_cdf(self.active()[k].lune, side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
@@ -521,7 +529,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
         let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k].lune];
+        let lune = &self.lunes[self.active()[k].lune];
         let x = self.invert_marginal(k, side, &y);
         match side {
             Side::Start => lune.start.clone() + &x,
@@ -619,7 +627,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k].lune];
+        let lune = &self.lunes[self.active()[k].lune];
         let x = self.invert_marginal(k, side, &y);
         let (s, c) = x.sin_cos();
         let (cos_phi, sin_phi) = match side {
