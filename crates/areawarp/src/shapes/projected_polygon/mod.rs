@@ -424,12 +424,13 @@ impl<T: Real> ProjectedPolygon<T> {
         self.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
     }
 
-    /// The active lune that `u` falls in (index among the active lunes),
+    /// The active lune that `u` falls in (its index among the lunes and its
+    /// fits, [`ProjectedPolygon::fit`]),
     /// the side to invert its marginal from, and the normalized position in
     /// that side's marginal: `y ∈ [0, 1/2]`-ish from the start, or the
     /// complementary position from the end, computed from `1 − u` (exact
     /// for `u ≥ 1/2`) so that the last lune keeps its relative accuracy.
-    fn select(&self, u: &T) -> (usize, Side, T) {
+    fn select(&self, u: &T) -> (usize, &[SideFit<T>; 2], Side, T) {
         let u = clamp_unit(u);
         let half = T::from_ratio(1, 2);
         let (zero, one) = (T::zero(), T::one());
@@ -445,13 +446,15 @@ impl<T: Real> ProjectedPolygon<T> {
         } else {
             active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
         };
-        let lune = &self.lunes[active[k].lune];
+        let a = &active[k];
+        let lune = &self.lunes[a.lune];
+        let fits = self.fit(a);
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
-        if y <= self.fit(k)[0].fh {
-            (k, Side::Start, y)
+        if y <= fits[0].fh {
+            (a.lune, fits, Side::Start, y)
         } else {
             let y_end = ((t_rev - &lune.cum_after) / &lune.area).clamp(&zero, &one);
-            (k, Side::End, y_end)
+            (a.lune, fits, Side::End, y_end)
         }
     }
 
@@ -461,12 +464,11 @@ impl<T: Real> ProjectedPolygon<T> {
         self.active.get_or_init(|| ActiveLune::of(&self.lunes))
     }
 
-    /// The fitted inverse marginal of active lune `k`, from the start and
+    /// The fitted inverse marginal of the active lune `a`, from the start and
     /// the end, computed the first time a sample falls in the lune: most of
     /// the construction's cost otherwise, and a renderer that builds the
     /// sampler for a few samples pays only for the lunes it visits.
-    fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
-        let a = &self.active()[k];
+    fn fit<'a>(&'a self, a: &'a ActiveLune<T>) -> &'a [SideFit<T>; 2] {
         a.fit
             .get_or_init(|| fit_lune(&self.lunes[a.lune], &self.edges, &self.pairs))
     }
@@ -480,11 +482,12 @@ impl<T: Real> ProjectedPolygon<T> {
         }
     }
 
-    /// x = F⁻¹(y) from `side` of active lune `k`, with the configured
-    /// inversion, in the transformed half-marginal G of [`SideFit`].
-    fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
-        let fit = &self.fit(k)[side as usize];
-        let cdf = fit.half(self.lune_cdf(self.active()[k].lune, side));
+    /// x = F⁻¹(y) from `side` of lune `l` (active), with the configured
+    /// inversion, in the transformed half-marginal G of [`SideFit`]
+    /// (`fits` its fits, from [`ProjectedPolygon::select`]).
+    fn invert_marginal(&self, l: usize, fits: &[SideFit<T>; 2], side: Side, y: &T) -> T {
+        let fit = &fits[side as usize];
+        let cdf = fit.half(self.lune_cdf(l, side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
@@ -528,9 +531,9 @@ impl<T: Real> ProjectedPolygon<T> {
     /// against a converged inversion). The result lies in
     /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
-        let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active()[k].lune];
-        let x = self.invert_marginal(k, side, &y);
+        let (l, fits, side, y) = self.select(u);
+        let lune = &self.lunes[l];
+        let x = self.invert_marginal(l, fits, side, &y);
         match side {
             Side::Start => lune.start.clone() + &x,
             Side::End => lune.end_az.clone() - &x,
@@ -626,9 +629,9 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     type Point = Vec3<T>;
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
-        let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active()[k].lune];
-        let x = self.invert_marginal(k, side, &y);
+        let (l, fits, side, y) = self.select(u);
+        let lune = &self.lunes[l];
+        let x = self.invert_marginal(l, fits, side, &y);
         let (s, c) = x.sin_cos();
         let (cos_phi, sin_phi) = match side {
             // φ = a + x.
