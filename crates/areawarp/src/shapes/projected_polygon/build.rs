@@ -3,7 +3,8 @@
 
 use super::coincident::distinct;
 use super::geometry::{scaled_unit, unit_direction};
-use super::lune::{EdgeRange, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use super::ranges::ArcEnd;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Inverter, Newton};
@@ -312,31 +313,6 @@ pub(super) fn clip<W, T: Real>(
     Ok(arcs)
 }
 
-/// The range of r² and z² over the arc: its ends, and the top of its great
-/// circle (r² = n_z², the point nearest the pole) if that lies on the arc.
-fn arc_range<T: Real>(arc: &Arc<T>) -> EdgeRange<T> {
-    let ends = EdgeRange::point([&arc.a.x, &arc.a.y, &arc.a.z])
-        .hull(&EdgeRange::point([&arc.b.x, &arc.b.y, &arc.b.z]));
-    let n = &arc.n;
-    // The top, e_z − n_z n (unnormalized), lies on the minor arc a → b if it
-    // is on the left of a and on the right of b along the great circle.
-    let top = Vec3::new(
-        -(n.z.clone() * &n.x),
-        -(n.z.clone() * &n.y),
-        n.x.square() + &n.y.square(),
-    );
-    if n.cross(&arc.a).dot(&top) >= T::zero() && arc.b.cross(n).dot(&top) >= T::zero() {
-        let r2 = n.z.square();
-        let z2 = T::one() - &r2;
-        ends.hull(&EdgeRange {
-            r2: (r2.clone(), r2),
-            z2: (z2.clone(), z2),
-        })
-    } else {
-        ends
-    }
-}
-
 /// An arc of the clipped boundary that sweeps azimuth, as the partition
 /// uses it.
 struct UsableArc<'a, T> {
@@ -347,8 +323,8 @@ struct UsableArc<'a, T> {
     cs: [(T, T); 2],
     /// Indices of the (merged) meridians of its start and end.
     ends: (usize, usize),
-    /// Its range of r² and z² ([`arc_range`]).
-    whole: EdgeRange<T>,
+    /// Its index among the clipped arcs.
+    index: usize,
     /// The lunes it crosses: `count` lunes from number `first` on,
     /// cyclically (`(first, count)`; count 0 for none).
     span: (usize, usize),
@@ -386,13 +362,13 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
     // Arcs along meridians (n_z = 0, including those through the pole)
     // sweep no azimuth and bound no projected area. The others, with the
     // azimuths of their ends (once per point: an arc that starts where the
-    // previous one ends, cyclically, reuses its azimuth) and their ranges,
-    // in one vector (a single allocation; the meridian indices of the ends
+    // previous one ends, cyclically, reuses its azimuth), in one vector (a single allocation; the meridian indices of the ends
     // are filled in below).
     let mut usable: Vec<UsableArc<'_, T>> = Vec::with_capacity(arcs.len());
-    for a in arcs
+    for (index, a) in arcs
         .iter()
-        .filter(|a| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
+        .enumerate()
+        .filter(|(_, a)| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
     {
         let (az_b, cs_b) = meridian(&a.b);
         usable.push(UsableArc {
@@ -400,7 +376,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
             az: (T::zero(), az_b),
             cs: [(T::zero(), T::zero()), cs_b],
             ends: (0, 0),
-            whole: arc_range(a),
+            index,
             span: (0, 0),
         });
     }
@@ -514,24 +490,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
         let (p, q, ends) = (usable[i].arc, usable[j].arc, usable[i].ends);
         (ends.0 == k && (p.a == q.a || p.a == q.b)) || (ends.1 == k && (p.b == q.a || p.b == q.b))
     };
-    // The arc's range in lune k: its own ends where it ends on the lune's
-    // meridians.
-    let range_in = |ai: usize, e: &LuneEdge<T>, k: usize| -> EdgeRange<T> {
-        let UsableArc {
-            arc, ends, whole, ..
-        } = &usable[ai];
-        let at = |meridian: usize| {
-            let p = if ends.0 == meridian {
-                &arc.a
-            } else if ends.1 == meridian {
-                &arc.b
-            } else {
-                return None;
-            };
-            Some(EdgeRange::point([&p.x, &p.y, &p.z]))
-        };
-        e.range([at(k), at(next(k, m))], whole)
-    };
     let mut lunes = Vec::with_capacity(m);
     let mut edges: Vec<LuneEdge<T>> = Vec::with_capacity(crossings);
     let mut pairs: Vec<Pair<T>> = Vec::with_capacity(crossings);
@@ -561,10 +519,23 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
                 let n = &ua.arc.n;
                 arc_of[ne] = ai;
                 ne += 1;
+                // The arc's own end points on the lune's meridians (its
+                // range in the lune, computed on first use: `ranges.rs`).
+                let end_on = |meridian: usize| {
+                    if ua.ends.0 == meridian {
+                        ArcEnd::Start
+                    } else if ua.ends.1 == meridian {
+                        ArcEnd::End
+                    } else {
+                        ArcEnd::Neither
+                    }
+                };
                 edges.push(LuneEdge::new(
                     [&n.x, &n.y, &n.z],
                     (&cos_a, &sin_a),
                     (&cos_b, &sin_b),
+                    ua.index,
+                    [end_on(k), end_on(next(k, m))],
                 ));
             }
         }
@@ -694,8 +665,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
             let mut d = [(zero.clone(), zero.clone()), (zero.clone(), zero.clone())];
             let mut shared = [false, false];
             let mut r0 = [zero.clone(), zero.clone()];
-            let outer_range = range_in(arc_of[outer_j], o, k);
-            let inner_range = inner.map(|i| range_in(arc_of[i], &lune_edges[i], k));
             if let Some(i) = inner {
                 let e = &lune_edges[i];
                 for (si, meridian) in [(0usize, k), (1, next(k, m))] {
@@ -716,7 +685,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
                 d,
                 shared,
                 r0,
-                range: EdgeRange::pair(inner_range.as_ref(), &outer_range).slackened(),
+                range: std::sync::OnceLock::new(),
             });
             j = outer_j + 1;
         }

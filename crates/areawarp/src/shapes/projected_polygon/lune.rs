@@ -15,6 +15,8 @@
 //! the start; `g₀ = g(b)`, `k₀ = −g'(b)` from the end). `r` is the distance
 //! from the pole in the projected (unit-disk) picture.
 
+use super::build::Arc;
+use super::ranges::{ArcEnd, EdgeRange};
 use crate::real::Real;
 use crate::recipe::Cdf1;
 use std::sync::OnceLock;
@@ -49,12 +51,18 @@ pub(super) struct LuneEdge<T> {
     pub nz2: T,
     /// Constants from the start and from the end.
     pub side: [EdgeSide<T>; 2],
+    /// The edge's arc (index into the clipped boundary's arcs).
+    pub arc: usize,
+    /// Which of the arc's end points lies on the lune's first and last
+    /// meridian (for its range in the lune, [`Pair::range`]).
+    pub arc_end: [ArcEnd; 2],
 }
 
 impl<T: Real> LuneEdge<T> {
     /// The edge's constants for the lune `[a, b]` (given by the cosines and
-    /// sines of its ends) from the great circle's unit normal `n`.
-    pub fn new(n: [&T; 3], a: (&T, &T), b: (&T, &T)) -> Self {
+    /// sines of its ends) from the great circle's unit normal `n`; `arc`
+    /// and `arc_end` as the fields.
+    pub fn new(n: [&T; 3], a: (&T, &T), b: (&T, &T), arc: usize, arc_end: [ArcEnd; 2]) -> Self {
         let [nx, ny, nz] = n;
         let nz2 = nz.square();
         let side = |(cos, sin): (&T, &T), sign: bool| {
@@ -70,42 +78,9 @@ impl<T: Real> LuneEdge<T> {
             abs_nz: nz.abs(),
             nz2: nz2.clone(),
             side: [side(a, true), side(b, false)],
+            arc,
+            arc_end,
         }
-    }
-
-    /// The range of the edge's part inside the lune: its points on the two
-    /// bounding meridians (`ends[side]`: the edge's own end point there, if
-    /// it ends on that meridian, else computed from the side's constants),
-    /// the top of its great circle (r² = n_z²) if that lies inside the lune,
-    /// all held inside the range `whole` of the whole edge.
-    pub fn range(&self, ends: [Option<EdgeRange<T>>; 2], whole: &EdgeRange<T>) -> EdgeRange<T> {
-        let at = |si: usize, given: &Option<EdgeRange<T>>| -> EdgeRange<T> {
-            match given {
-                Some(r) => r.clone(),
-                None => {
-                    let g0 = &self.side[si].g0;
-                    let den = self.nz2.clone() + &g0.square();
-                    let r2 = self.nz2.clone() / &den;
-                    let z2 = g0.square() / &den;
-                    EdgeRange {
-                        r2: (r2.clone(), r2),
-                        z2: (z2.clone(), z2),
-                    }
-                }
-            }
-        };
-        let mut r = at(0, &ends[0]).hull(&at(1, &ends[1]));
-        // g' = k₀ at the start and −k₀ at the end: of opposite signs, |g|
-        // peaks inside, where the great circle is highest (r² = n_z²).
-        if self.side[0].k0.clone() * &self.side[1].k0 > T::zero() {
-            let top = self.nz2.clone();
-            let z_top = T::one() - &top;
-            r = r.hull(&EdgeRange {
-                r2: (top.clone(), top),
-                z2: (z_top.clone(), z_top),
-            });
-        }
-        r.within(whole)
     }
 
     /// `(g, n_z² + g²)` at side coordinate `(c, s)`.
@@ -156,93 +131,8 @@ pub(super) struct Pair<T> {
     /// construction.
     pub r0: [T; 2],
     /// The range of the interval's region in the lune (samples are clamped
-    /// into it).
-    pub range: EdgeRange<T>,
-}
-
-/// The range of r² and of z² over a part of an edge, or over the region
-/// of an interval ([`Pair`]) in its lune, `(least, largest)` each: from the
-/// inner edge's least r² (0 at the pole) to the outer edge's largest
-/// ([`EdgeRange::pair`]). Samples are clamped into their interval's range
-/// (widened by rounding, [`EdgeRange::slackened`]), which keeps them within
-/// the lune's azimuth width of the region where the edges' r² on a meridian
-/// is ill-conditioned (edges nearly along a meridian).
-#[derive(Clone, Debug)]
-pub(super) struct EdgeRange<T> {
-    /// (least r², largest r²).
-    pub r2: (T, T),
-    /// (least z², largest z²).
-    pub z2: (T, T),
-}
-
-impl<T: Real> EdgeRange<T> {
-    /// The range of the point `p` (unit).
-    pub fn point(p: [&T; 3]) -> Self {
-        let r2 = p[0].square() + &p[1].square();
-        let z2 = p[2].square();
-        EdgeRange {
-            r2: (r2.clone(), r2),
-            z2: (z2.clone(), z2),
-        }
-    }
-
-    /// `(r², z²)` clamped into the range.
-    #[inline]
-    pub fn clamp(&self, r2: T, z2: T) -> (T, T) {
-        (
-            r2.max(&self.r2.0).min(&self.r2.1),
-            z2.max(&self.z2.0).min(&self.z2.1),
-        )
-    }
-
-    /// The range widened by 64 units of roundoff (relative) at both ends:
-    /// the clamp then leaves every well-conditioned value, and its
-    /// derivative over dual numbers, alone and acts only where the
-    /// meridian's r² is off by more than rounding.
-    pub fn slackened(&self) -> Self {
-        let k = T::from_i64(64) * &T::unit_roundoff();
-        let widen = |(lo, hi): &(T, T)| {
-            (
-                lo.clone() - &(lo.clone() * &k),
-                hi.clone() + &(hi.clone() * &k),
-            )
-        };
-        EdgeRange {
-            r2: widen(&self.r2),
-            z2: widen(&self.z2),
-        }
-    }
-
-    /// The smallest range holding both.
-    pub fn hull(&self, o: &Self) -> Self {
-        EdgeRange {
-            r2: (self.r2.0.min(&o.r2.0), self.r2.1.max(&o.r2.1)),
-            z2: (self.z2.0.min(&o.z2.0), self.z2.1.max(&o.z2.1)),
-        }
-    }
-
-    /// `self` clamped into `outer` (both ends).
-    pub fn within(&self, outer: &Self) -> Self {
-        let c = |x: &T, (lo, hi): &(T, T)| x.max(lo).min(hi);
-        EdgeRange {
-            r2: (c(&self.r2.0, &outer.r2), c(&self.r2.1, &outer.r2)),
-            z2: (c(&self.z2.0, &outer.z2), c(&self.z2.1, &outer.z2)),
-        }
-    }
-
-    /// The range of the region between the inner edge `inner` (`None`: the
-    /// pole) and the outer edge `outer` across a lune: on every meridian
-    /// the region runs from the inner edge outwards to the outer edge.
-    pub fn pair(inner: Option<&Self>, outer: &Self) -> Self {
-        let (r_lo, z_hi) = match inner {
-            Some(i) => (i.r2.0.clone(), i.z2.1.clone()),
-            None => (T::zero(), T::one()),
-        };
-        EdgeRange {
-            r2: (r_lo, outer.r2.1.clone()),
-            z2: (outer.z2.0.clone(), z_hi),
-        }
-    }
+    /// into it), computed on first use ([`Pair::range`]).
+    pub range: OnceLock<EdgeRange<T>>,
 }
 
 /// An azimuth interval `[start, start + width]` with no vertex inside.
@@ -453,7 +343,8 @@ impl<T: Real> Lune<T> {
 
     /// `(r², z²)` of the point at conditional probability `v` on the
     /// meridian at side coordinate `(c, s)`, clamped into its interval's
-    /// range ([`Pair::range`]): uniform in r² (equivalently in
+    /// range ([`Pair::range`], from the edges and the clipped boundary's
+    /// `arcs`): uniform in r² (equivalently in
     /// z²) over the union of intervals, from the pole outwards. `v ≤ 1/2` is
     /// measured from the pole, `v > 1/2` from the outer end with `1 − v`
     /// (exact there), so that both ends keep their relative accuracy.
@@ -462,6 +353,7 @@ impl<T: Real> Lune<T> {
         &self,
         edges: &[LuneEdge<T>],
         pairs: &[Pair<T>],
+        arcs: &[Arc<T>],
         side: Side,
         c: &T,
         s: &T,
@@ -480,7 +372,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i + 1 == ni {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = p.range.clamp(iv.r_in + &t, iv.z_in - &t);
+                    out = p.range(edges, arcs).clamp(iv.r_in + &t, iv.z_in - &t);
                     break;
                 }
                 cum += &iv.len;
@@ -492,7 +384,7 @@ impl<T: Real> Lune<T> {
                 let iv = self.interval(edges, p, side, c, s);
                 if w <= cum.clone() + &iv.len || i == 0 {
                     let t = (w - &cum).clamp(&zero, &iv.len);
-                    out = p.range.clamp(iv.r_out - &t, iv.z_out + &t);
+                    out = p.range(edges, arcs).clamp(iv.r_out - &t, iv.z_out + &t);
                     break;
                 }
                 cum += &iv.len;

@@ -6,8 +6,10 @@
 mod build;
 mod coincident;
 mod geometry;
+mod light;
 mod lune;
 mod narrow;
+mod ranges;
 #[cfg(test)]
 mod reference;
 #[cfg(test)]
@@ -25,7 +27,7 @@ use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
 use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
-use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
+use crate::warp::Warp;
 use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
@@ -97,7 +99,7 @@ pub enum MarginalInversion {
 /// A vertex whose direction coincides with its predecessor's (the same
 /// input direction, decided exactly, or not resolved by unit vectors) is
 /// dropped: a quad with a repeated corner is the triangle. The shape keeps
-/// its input verbatim ([`WarpFamily::at`], [`LightWarp::sample_light`]'s
+/// its input verbatim ([`WarpFamily::at`](crate::warp::WarpFamily::at), [`LightWarp::sample_light`](crate::warp::LightWarp::sample_light)'s
 /// plane); see `docs/projected-polygon.md`, "Repeated vertices".
 ///
 /// # Checked in the constructor
@@ -164,8 +166,10 @@ pub struct ProjectedPolygon<T> {
     edges: Vec<LuneEdge<T>>,
     pairs: Vec<Pair<T>>,
     /// The lunes of positive area, by azimuth, with their fitted inverse
-    /// marginals (computed on first use, [`ProjectedPolygon::fit`]).
-    active: Vec<ActiveLune<T>>,
+    /// marginals (the list made at the first sample,
+    /// [`ProjectedPolygon::active`]; each fit at the first sample in its
+    /// lune, [`ProjectedPolygon::fit`]).
+    active: OnceLock<Vec<ActiveLune<T>>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
@@ -358,7 +362,6 @@ impl<T: Real> ProjectedPolygon<T> {
             pairs,
             measure,
         } = built;
-        let active = ActiveLune::of(&lunes);
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -367,7 +370,7 @@ impl<T: Real> ProjectedPolygon<T> {
             lunes,
             edges,
             pairs,
-            active,
+            active: OnceLock::new(),
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),
@@ -413,7 +416,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// intervals between consecutive vertex meridians that the polygon
     /// covers).
     pub fn lune_count(&self) -> usize {
-        self.active.len()
+        self.active().len()
     }
 
     /// The largest number of edges crossing one lune (2 for a convex
@@ -422,42 +425,51 @@ impl<T: Real> ProjectedPolygon<T> {
         self.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
     }
 
-    /// The active lune that `u` falls in (index among the active lunes),
+    /// The active lune that `u` falls in (its index among the lunes and its
+    /// fits, [`ProjectedPolygon::fit`]),
     /// the side to invert its marginal from, and the normalized position in
     /// that side's marginal: `y ∈ [0, 1/2]`-ish from the start, or the
     /// complementary position from the end, computed from `1 − u` (exact
     /// for `u ≥ 1/2`) so that the last lune keeps its relative accuracy.
-    fn select(&self, u: &T) -> (usize, Side, T) {
+    fn select(&self, u: &T) -> (usize, &[SideFit<T>; 2], Side, T) {
         let u = clamp_unit(u);
         let half = T::from_ratio(1, 2);
         let (zero, one) = (T::zero(), T::one());
-        let na = self.active.len();
+        let active = self.active();
+        let na = active.len();
         let t = u.clone() * &self.measure;
         let t_rev = (one.clone() - &u) * &self.measure;
         let k = if u <= half {
-            self.active[..na - 1].partition_point(|a| {
+            active[..na - 1].partition_point(|a| {
                 let lune = &self.lunes[a.lune];
                 lune.cum_start.clone() + &lune.area <= t
             })
         } else {
-            self.active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
+            active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
         };
-        let lune = &self.lunes[self.active[k].lune];
+        let a = &active[k];
+        let lune = &self.lunes[a.lune];
+        let fits = self.fit(a);
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
-        if y <= self.fit(k)[0].fh {
-            (k, Side::Start, y)
+        if y <= fits[0].fh {
+            (a.lune, fits, Side::Start, y)
         } else {
             let y_end = ((t_rev - &lune.cum_after) / &lune.area).clamp(&zero, &one);
-            (k, Side::End, y_end)
+            (a.lune, fits, Side::End, y_end)
         }
     }
 
-    /// The fitted inverse marginal of active lune `k`, from the start and
+    /// The lunes of positive area, by azimuth: listed at the first sample
+    /// (not by the constructor, which `measure` alone does not need).
+    fn active(&self) -> &[ActiveLune<T>] {
+        self.active.get_or_init(|| ActiveLune::of(&self.lunes))
+    }
+
+    /// The fitted inverse marginal of the active lune `a`, from the start and
     /// the end, computed the first time a sample falls in the lune: most of
     /// the construction's cost otherwise, and a renderer that builds the
     /// sampler for a few samples pays only for the lunes it visits.
-    fn fit(&self, k: usize) -> &[SideFit<T>; 2] {
-        let a = &self.active[k];
+    fn fit<'a>(&'a self, a: &'a ActiveLune<T>) -> &'a [SideFit<T>; 2] {
         a.fit
             .get_or_init(|| fit_lune(&self.lunes[a.lune], &self.edges, &self.pairs))
     }
@@ -471,11 +483,12 @@ impl<T: Real> ProjectedPolygon<T> {
         }
     }
 
-    /// x = F⁻¹(y) from `side` of active lune `k`, with the configured
-    /// inversion, in the transformed half-marginal G of [`SideFit`].
-    fn invert_marginal(&self, k: usize, side: Side, y: &T) -> T {
-        let fit = &self.fit(k)[side as usize];
-        let cdf = fit.half(self.lune_cdf(self.active[k].lune, side));
+    /// x = F⁻¹(y) from `side` of lune `l` (active), with the configured
+    /// inversion, in the transformed half-marginal G of [`SideFit`]
+    /// (`fits` its fits, from [`ProjectedPolygon::select`]).
+    fn invert_marginal(&self, l: usize, fits: &[SideFit<T>; 2], side: Side, y: &T) -> T {
+        let fit = &fits[side as usize];
+        let cdf = fit.half(self.lune_cdf(l, side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
@@ -519,9 +532,9 @@ impl<T: Real> ProjectedPolygon<T> {
     /// against a converged inversion). The result lies in
     /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
-        let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k].lune];
-        let x = self.invert_marginal(k, side, &y);
+        let (l, fits, side, y) = self.select(u);
+        let lune = &self.lunes[l];
+        let x = self.invert_marginal(l, fits, side, &y);
         match side {
             Side::Start => lune.start.clone() + &x,
             Side::End => lune.end_az.clone() - &x,
@@ -617,9 +630,9 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     type Point = Vec3<T>;
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
-        let (k, side, y) = self.select(u);
-        let lune = &self.lunes[self.active[k].lune];
-        let x = self.invert_marginal(k, side, &y);
+        let (l, fits, side, y) = self.select(u);
+        let lune = &self.lunes[l];
+        let x = self.invert_marginal(l, fits, side, &y);
         let (s, c) = x.sin_cos();
         let (cos_phi, sin_phi) = match side {
             // φ = a + x.
@@ -639,7 +652,15 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
                 )
             }
         };
-        let (r2, z2) = lune.sample(&self.edges, &self.pairs, side, &c, &s, &clamp_unit(v));
+        let (r2, z2) = lune.sample(
+            &self.edges,
+            &self.pairs,
+            &self.arcs,
+            side,
+            &c,
+            &s,
+            &clamp_unit(v),
+        );
         let r = r2.sqrt();
         let local = Vec3::new(r.clone() * &cos_phi, r * &sin_phi, z2.sqrt());
         match &self.frame {
@@ -723,80 +744,4 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     }
 }
 
-impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
-    /// The observer given to [`ProjectedPolygon::from_points`] (the origin
-    /// for [`ProjectedPolygon::new`]).
-    fn observer(&self) -> Vec3<T> {
-        match &self.source {
-            Source::Points { observer, .. } => observer.clone(),
-            Source::Directions(_) => Vec3::zero(),
-        }
-    }
-
-    /// The cosine-weighted direction ψ(u, v) and the point where it meets
-    /// the plane of the polygon's corners (relative to the observer; the
-    /// plane through their centroid with Newell's normal `n`, exact for a
-    /// planar polygon): `t = (n·c̄)/(n·d)`, `|cos θ_e| = |n·d|/|n|`. The
-    /// plane is computed here, not at construction, so that a sampler that
-    /// never asks for points does not pay for it.
-    fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
-        let [u, v] = uv;
-        let (d, pdf) = self.map_with_pdf(&u, &v);
-        let (corners, observer) = match &self.source {
-            Source::Points {
-                points, observer, ..
-            } => (points, observer.clone()),
-            Source::Directions(v) => (v, Vec3::zero()),
-        };
-        let k = corners.len();
-        let rel = |i: usize| corners[i % k].sub(&observer);
-        let mut n = Vec3::zero();
-        let mut centroid = Vec3::zero();
-        for i in 0..k {
-            let (p, q) = (rel(i), rel(i + 1));
-            n = n.add(&p.cross(&q));
-            centroid = centroid.add(&p);
-        }
-        let centroid = centroid.scale(&(T::one() / &T::from_i64(k as i64)));
-        let dn = d.dot(&n);
-        let t = (centroid.dot(&n) / &dn).abs();
-        let cos_e = dn.abs() / &n.norm();
-        let pdf_area = pdf.clone() * &cos_e / &t.square();
-        LightSample {
-            point: observer.add(&d.scale(&t)),
-            direction: d,
-            distance: t,
-            pdf,
-            pdf_area,
-        }
-    }
-}
-
 crate::warp::distribution_for_floats!(ProjectedPolygon, Vec3);
-
-impl<T: Real> WarpFamily<T> for ProjectedPolygon<T> {
-    type At<S: Real> = ProjectedPolygon<S>;
-
-    /// Rebuilds the polygon from its input converted to `S`, with the same
-    /// [`MarginalInversion`].
-    fn at<S: Real>(&self) -> Result<ProjectedPolygon<S>, WarpError> {
-        let conv = |v: &[Vec3<T>]| -> Vec<Vec3<S>> { v.iter().map(|p| p.convert()).collect() };
-        match &self.source {
-            Source::Directions(v) => ProjectedPolygon::new_with(&conv(v), self.inversion),
-            Source::Points {
-                points,
-                observer,
-                normal,
-            } => ProjectedPolygon::from_points_with(
-                &conv(points),
-                &observer.convert(),
-                &normal.convert(),
-                self.inversion,
-            ),
-        }
-    }
-
-    fn name(&self) -> String {
-        "projected-polygon".to_string()
-    }
-}

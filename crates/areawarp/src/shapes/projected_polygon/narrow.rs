@@ -9,7 +9,7 @@
 //! in their lune and interval by the rounded ranges.
 
 use super::build::{Arc, Built, accumulate};
-use super::lune::{EdgeRange, EdgeSide, Lune, LuneEdge, Pair};
+use super::lune::{EdgeSide, Lune, LuneEdge, Pair};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::wide::{narrow3, widen3};
@@ -50,15 +50,6 @@ fn n2<T: Real>((a, b): &(T::Wide, T::Wide)) -> (T, T) {
     (T::narrow(a), T::narrow(b))
 }
 
-/// The range rounded to `T` and widened by `T`'s rounding.
-fn range<T: Real>(r: &EdgeRange<T::Wide>) -> EdgeRange<T> {
-    EdgeRange {
-        r2: n2::<T>(&r.r2),
-        z2: n2::<T>(&r.z2),
-    }
-    .slackened()
-}
-
 /// The wide construction rounded to `T`. Lunes whose area rounds to zero
 /// are not sampled; `None` if nothing is left (the projected solid angle
 /// is not representable in `T`).
@@ -83,6 +74,8 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
                 g0: n::<T>(&e.side[i].g0),
                 k0: n::<T>(&e.side[i].k0),
             }),
+            arc: e.arc,
+            arc_end: e.arc_end,
         })
         .collect();
     let pairs = w
@@ -94,7 +87,7 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             d: [n2::<T>(&p.d[0]), n2::<T>(&p.d[1])],
             shared: p.shared,
             r0: [T::narrow(&p.r0[0]), T::narrow(&p.r0[1])],
-            range: range::<T>(&p.range),
+            range: OnceLock::new(),
         })
         .collect();
     let zero = T::zero();

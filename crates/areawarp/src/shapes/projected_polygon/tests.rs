@@ -4,6 +4,7 @@ use crate::harness::chi2::{Binning, run_chi_square};
 use crate::harness::extremes::{extremes_grid, random_points};
 use crate::harness::roundtrip::check_roundtrip;
 use crate::shapes::polygon_measures::{projected_solid_angle, solid_angle};
+use crate::warp::WarpFamily;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use std::f64::consts::PI;

@@ -55,7 +55,7 @@ fn projected_polygon_marginal_density_is_derivative() {
             .unwrap();
         let h = M::exp2i(-80);
         for (k, side) in w
-            .active
+            .active()
             .iter()
             .flat_map(|a| [(a.lune, Side::Start), (a.lune, Side::End)])
         {
@@ -239,7 +239,7 @@ fn stats(mut v: Vec<f64>) -> (f64, f64) {
 fn arvo_cubic_backward(w: &ProjectedPolygon<f64>, us: &[f64]) -> (f64, f64) {
     use crate::recipe::FittedCubic;
     let fits: Vec<FittedCubic<f64>> = w
-        .active
+        .active()
         .iter()
         .map(|a| FittedCubic::fit(&w.lune_cdf(a.lune, Side::Start)))
         .collect();
@@ -247,11 +247,12 @@ fn arvo_cubic_backward(w: &ProjectedPolygon<f64>, us: &[f64]) -> (f64, f64) {
         .iter()
         .map(|&u| {
             let t = u * w.measure;
-            let k = w.active[..w.active.len() - 1].partition_point(|a| {
+            let active = w.active();
+            let k = active[..active.len() - 1].partition_point(|a| {
                 let lune = &w.lunes[a.lune];
                 lune.cum_start + lune.area <= t
             });
-            let lune = &w.lunes[w.active[k].lune];
+            let lune = &w.lunes[active[k].lune];
             let y = ((t - lune.cum_start) / lune.area).clamp(0.0, 1.0);
             let (lo, hi) = fits[k].bracket(&y);
             let phi = lune.start + fits[k].eval(&y).clamp(lo, hi);
