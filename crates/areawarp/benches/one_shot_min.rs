@@ -13,7 +13,10 @@
 //! cargo bench -p areawarp --bench one_shot_min [-- REPS]
 //! ```
 //!
-//! Prints ns per sample (batch / 256) and the ratio one-shot / per-sample.
+//! Prints ns per sample (batch / 256) and the ratio one-shot / per-sample;
+//! then the one-shot solid angle (`solid_angle_of`, no shape built) against
+//! the textbook formula of `one_shot.rs` (unvalidated, in `T`), per shading
+//! point, timed the same way.
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use areawarp::{Real, Vec3};
@@ -23,8 +26,8 @@ use std::time::Instant;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, rectangle_one_shot, rectangle_per_sample, rectangles, triangle_one_shot,
-    triangle_per_sample, triangles,
+    N, batch, rectangle_one_shot, rectangle_per_sample, rectangles, textbook_rectangle_solid_angle,
+    textbook_solid_angle, triangle_one_shot, triangle_per_sample, triangles,
 };
 
 /// The minimum time per sample (ns) of the batches `f` and `g`, timed
@@ -118,4 +121,41 @@ fn main() {
         rectangle_per_sample,
         rectangle_one_shot,
     );
+    // The one-shot solid angle (no shape built) against the textbook
+    // formula of the same quantity, unvalidated, in `T`.
+    fn solid_angles<T: Real>(
+        name: &str,
+        reps: usize,
+        ours: impl Fn(&[Vec3<T>; 4]) -> T,
+        book: impl Fn(&[Vec3<T>; 4]) -> T,
+        shapes: &[[Vec3<T>; 4]],
+    ) {
+        let sum = |f: &dyn Fn(&[Vec3<T>; 4]) -> T| {
+            shapes
+                .iter()
+                .fold(T::zero(), |acc, s| acc + &f(black_box(s)))
+                .to_f64()
+        };
+        let (o, b) = min_times(|| sum(&ours), || sum(&book), reps);
+        println!(
+            "{name:16} solid angle {o:7.2} ns  textbook {b:7.2} ns  ratio {:.3}",
+            o / b
+        );
+    }
+    fn tri_omega<T: Real>([a, b, c, o]: &[Vec3<T>; 4]) -> T {
+        SphericalTriangle::solid_angle_of(&a.sub(o), &b.sub(o), &c.sub(o)).unwrap()
+    }
+    fn tri_book<T: Real>([a, b, c, o]: &[Vec3<T>; 4]) -> T {
+        textbook_solid_angle(&a.sub(o), &b.sub(o), &c.sub(o))
+    }
+    fn rect_omega<T: Real>([s, ex, ey, o]: &[Vec3<T>; 4]) -> T {
+        SphericalRectangle::solid_angle_of(s, ex, ey, o).unwrap()
+    }
+    fn rect_book<T: Real>([s, ex, ey, o]: &[Vec3<T>; 4]) -> T {
+        textbook_rectangle_solid_angle(s, ex, ey, o)
+    }
+    solid_angles("triangle f32", reps, tri_omega, tri_book, &t32);
+    solid_angles("triangle f64", reps, tri_omega, tri_book, &t64);
+    solid_angles("rectangle f32", reps, rect_omega, rect_book, &r32);
+    solid_angles("rectangle f64", reps, rect_omega, rect_book, &r64);
 }

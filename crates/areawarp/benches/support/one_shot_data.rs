@@ -107,3 +107,43 @@ pub fn rectangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T 
             fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
         })
 }
+
+/// The solid angle as a renderer writes it without validation (pbrt-v4's
+/// `SphericalTriangleArea` after normalizing the directions; our own code):
+/// Van Oosterom–Strackee in `T`, `|2 atan2(a·(b × c), 1 + a·b + a·c + b·c)|`.
+#[inline]
+pub fn textbook_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
+    let unit = |v: &Vec3<T>| v.scale(&(T::one() / &v.dot(v).sqrt()));
+    let (a, b, c) = (unit(a), unit(b), unit(c));
+    let den = T::one() + &a.dot(&b) + &a.dot(&c) + &b.dot(&c);
+    (a.dot(&b.cross(&c)).atan2(&den) * &T::from_i64(2)).abs()
+}
+
+/// The solid angle of a rectangle as a renderer writes it without
+/// validation (Girard's theorem, as pbrt-v4's `SphericalQuadArea` and the
+/// paper's Appendix B; our own code): the unit normals of the four planes
+/// through the observer and an edge, the interior angles `acos(−n_i·n_j)`
+/// of consecutive planes, `|Σγ − 2π|`.
+#[inline]
+pub fn textbook_rectangle_solid_angle<T: Real>(
+    s: &Vec3<T>,
+    ex: &Vec3<T>,
+    ey: &Vec3<T>,
+    o: &Vec3<T>,
+) -> T {
+    let p0 = s.sub(o);
+    let p1 = p0.add(ex);
+    let p2 = p1.add(ey);
+    let p3 = p0.add(ey);
+    let unit = |v: Vec3<T>| v.scale(&(T::one() / &v.dot(&v).sqrt()));
+    let n = [
+        unit(p0.cross(&p1)),
+        unit(p1.cross(&p2)),
+        unit(p2.cross(&p3)),
+        unit(p3.cross(&p0)),
+    ];
+    let angle = |a: &Vec3<T>, b: &Vec3<T>| (-a.dot(b)).clamp(&-T::one(), &T::one()).acos();
+    let sum =
+        angle(&n[3], &n[0]) + &angle(&n[0], &n[1]) + &angle(&n[1], &n[2]) + &angle(&n[2], &n[3]);
+    (sum - &(T::pi() * &T::from_i64(2))).abs()
+}
