@@ -110,8 +110,9 @@ pub(super) struct Core<W> {
     /// [C|A] and sin b.
     pub c_perp: Vec3<W>,
     pub sin_b: W,
-    /// `d = sin c sin α = |det| / sin b`, and `1/d = sin b / |det|`
-    /// (each one rounding from the exact quotient's operands).
+    /// `d = sin c sin α = |det| / sin b`, formed as `|det|·(1/sin b)` with
+    /// the tangent's reciprocal (two roundings), and `1/d = sin b / |det|`
+    /// (one rounding).
     pub d: W,
     pub inv_d: W,
     /// `1 + cos c = |A + B|²/2`, `sin c cos α = (B − A)·[C|A]`.
