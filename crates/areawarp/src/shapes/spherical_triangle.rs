@@ -269,6 +269,34 @@ fn out_of_range() -> WarpError {
     build::reject::OUT_OF_RANGE
 }
 
+/// The scalars of the map rounded to `T` (Ω, 1/Ω, Ω/2, d), shared by the
+/// constructor and the one-shot sample; `Unrepresentable` if `T` cannot
+/// hold them.
+struct Scalars<T> {
+    omega: T,
+    inv_omega: T,
+    half_omega: T,
+    d: T,
+}
+
+impl<T: Real> Scalars<T> {
+    #[inline(always)]
+    fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
+        let (omega, inv_omega) = build::omega_in::<T>(&core.omega)?;
+        let d = T::narrow(&core.d);
+        if !positive(&d) {
+            return Err(out_of_range());
+        }
+        let two = <T::Wide as Real>::from_i64(2);
+        Ok(Scalars {
+            omega,
+            inv_omega,
+            half_omega: T::narrow(&(core.omega.clone() / &two)),
+            d,
+        })
+    }
+}
+
 impl<T: Real> SphericalTriangle<T> {
     /// The spherical triangle with vertex directions `a`, `b`, `c`
     /// (normalized here), evaluated with the default
@@ -307,12 +335,13 @@ impl<T: Real> SphericalTriangle<T> {
         input: [Vec3<T>; 3],
         variant: SphericalTriangleVariant,
     ) -> Result<Self, WarpError> {
-        let (omega, inv_omega) = build::omega_in::<T>(&core.omega)?;
         let two = <T::Wide as Real>::from_i64(2);
-        let d = T::narrow(&core.d);
-        if !positive(&d) {
-            return Err(out_of_range());
-        }
+        let Scalars {
+            omega,
+            inv_omega,
+            half_omega,
+            d,
+        } = Scalars::of(core)?;
         let anchors = [
             core.anchor(true)?.narrow::<T>().ok_or_else(out_of_range)?,
             core.anchor(false)?.narrow::<T>().ok_or_else(out_of_range)?,
@@ -329,17 +358,18 @@ impl<T: Real> SphericalTriangle<T> {
             input,
             observer: Vec3::zero(),
             b_norm2: build::norm2(&b),
-            half_omega: T::narrow(&(core.omega.clone() / &two)),
+            half_omega,
             omega,
             inv_omega,
             d,
             k1a: T::narrow(&core.k1a),
             ka: T::narrow(&core.ka),
             a_minus_b: narrow3::<T>(&core.ab.neg()),
-            a_plus_b: narrow3::<T>(&core.a.add(&core.b)),
+            // A + B and |A + C|² as the validation formed them.
+            a_plus_b: narrow3::<T>(&core.at_b[0].1),
             c_perp: narrow3::<T>(&core.c_perp),
             anchors,
-            one_plus_cos_b: T::narrow(&(build::norm2(&core.a.add(&core.c)) / &two)),
+            one_plus_cos_b: T::narrow(&(core.p_ca.clone() / &two)),
             sin_b: T::narrow(&core.sin_b),
             normals: OnceLock::new(),
             wide: OnceLock::new(),
@@ -471,12 +501,11 @@ impl<T: Real> SphericalTriangle<T> {
 
     #[inline(always)]
     fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
-        let (_, inv_omega) = build::omega_in::<T>(&core.omega)?;
-        if !positive(&T::narrow(&core.d)) {
-            return Err(out_of_range());
-        }
-        let two = <T::Wide as Real>::from_i64(2);
-        let half_omega = T::narrow(&(core.omega.clone() / &two));
+        let Scalars {
+            inv_omega,
+            half_omega,
+            ..
+        } = Scalars::of(core)?;
         let anchor = core
             .anchor(robust::uses_anchor_a(&clamp_unit(u)))?
             .narrow::<T>()
