@@ -74,7 +74,7 @@ fn tabulated_cap_meets_its_tolerance() {
 /// sin^(k+1)(πs/2), so F⁻¹(u) = (2/π)·asin(u^(1/(k+1))) has an algebraic
 /// singularity of exponent 1/(k + 1) at u = 0, which no polynomial in u
 /// meets on panels of any representable width (issue 12, defect a). The
-/// table's first panel is fitted in w = u^(1/m), m = k + 1 from the
+/// table's panels of [0, 1/2] are fitted in w = u^(1/m), m = k + 1 from the
 /// definition's exponent (`WarpDefinition::left_power`). Certified twice at
 /// 256 bits: against the 256-bit derived warp on the usual points, and
 /// against the closed form F⁻¹ at every u = 2^-j of f64 (j = 1 … 1074) and

@@ -115,6 +115,12 @@ pub trait Real:
         Self::from_i64(4) / &Self::max_value()
     }
 
+    /// `2^p / max` (`p` the precision): below it a value's own roundoff
+    /// is lost to underflow (`f32`, `f64`; out of reach for MPFR).
+    fn precision_floor() -> Self {
+        Self::exp2i(Self::precision() as i32) / &Self::max_value()
+    }
+
     /// `true` if neither infinite nor NaN.
     fn is_finite(&self) -> bool;
     /// `true` if NaN.

@@ -378,7 +378,7 @@ impl<T: Real> ConditionalGrid<T> {
         let mut left: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         let mut right: [T; MAX_NODES + 1] = core::array::from_fn(|_| T::zero());
         p.coefficients(levels, &buf, &mut density);
-        if self.uniform_at(&density) && (T::zero()..=T::one()).contains(v) {
+        if self.uniform_at(&density[..p.n]) && (T::zero()..=T::one()).contains(v) {
             return v.clone();
         }
         let poly_mass = integral_coefficients_into(

@@ -375,7 +375,7 @@ pub(crate) fn adaptive_partition<T: Real>(
     // The smallest density the left tail is refined for relatively: below
     // 2^p of the smallest normal number, f's own values lose their
     // precision (f64, f32; MPFR's exponent range puts it out of reach).
-    let underflow = T::exp2i(T::precision() as i32) / &T::max_value();
+    let underflow = T::precision_floor();
     // The smallest normal number (about): q = f/s^e needs both normal.
     let normal = T::normal_floor();
     let mut power = settings.power.clone();
@@ -387,7 +387,7 @@ pub(crate) fn adaptive_partition<T: Real>(
         {
             // The power panel [0, b], b the first of 1, 2, 4, 8 starting
             // widths at whose nodes q is computable (f and s^e above the
-            // underflow level; a wider panel has its smallest nodes
+            // smallest normal number; a wider panel has its smallest nodes
             // further from 0); none: the plain panels.
             let mut width = 1;
             while width <= 8 && width <= count {

@@ -237,8 +237,8 @@ impl<T: Real, P: WarpDefinition<T>> TabulatedWarp<T, P> {
 /// follows a power law there with m > 17/8: then no polynomial in u meets a
 /// tolerance near u = 0 on panels of any representable width (Phong of
 /// exponent k seen from the horizon: m = k + 1, F⁻¹ ~ u^(1/11) for k = 10),
-/// and the first panel is fitted in w = u^(1/m) instead, where F⁻¹ is
-/// smooth. m = 2 (a pole of φ, F⁻¹ ~ √u) is left to the geometric
+/// and the panels of [0, 1/2] are fitted, and bisected, in w = u^(1/m)
+/// instead, where F⁻¹ is smooth. m = 2 (a pole of φ, F⁻¹ ~ √u) is left to the geometric
 /// refinement, which meets every tolerance the type allows.
 ///
 /// Estimated from the density F' ∝ Z(s) = ∫σw dt (the t-quadrature,
@@ -259,7 +259,7 @@ fn left_exponent<T: Real, P: WarpDefinition<T>>(recipe: &DerivedRecipe<T, P>) ->
     }
     let two = T::from_i64(2);
     let ln2 = two.ln();
-    let floor = T::exp2i(T::precision() as i32) / &T::max_value();
+    let floor = T::precision_floor();
     let last = (T::precision() as i32 / 2).min(40);
     let mut z = recipe.normalizer(&T::exp2i(-3));
     // The last two local exponents.

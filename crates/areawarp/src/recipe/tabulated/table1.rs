@@ -91,12 +91,9 @@ impl<T: Real> Table1<T> {
         let mut w_ends = vec![T::zero()];
         while let Some((a, b, wr)) = stack.pop() {
             // The panel's variable x: u, or w = u^(1/m).
-            let pw = wr
-                .as_ref()
-                .zip(power.zip(inv_m.as_ref()))
-                .map(|(_, (m, im))| (m.clone(), im.clone()));
+            let pw = wr.as_ref().and(power.zip(inv_m.as_ref()));
             let var = |u: &T| -> T {
-                match &pw {
+                match pw {
                     Some((_, im)) => u.powf(im),
                     None => u.clone(),
                 }
@@ -107,7 +104,7 @@ impl<T: Real> Table1<T> {
             };
             let half = (xb.clone() - &xa) / &two;
             let x_mid = (xa.clone() + &xb) / &two;
-            let mid = match &pw {
+            let mid = match pw {
                 Some((m, _)) => x_mid.powf(m),
                 None => x_mid.clone(),
             };
@@ -118,7 +115,7 @@ impl<T: Real> Table1<T> {
                 } else {
                     xa.clone() + &(half.clone() * &(T::one() + xi))
                 };
-                match &pw {
+                match pw {
                     _ if *xi == T::one() => b.clone(),
                     _ if *xi == -T::one() => a.clone(),
                     Some((m, _)) => x.powf(m).clamp(&a, &b),
