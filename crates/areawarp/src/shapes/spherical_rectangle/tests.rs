@@ -658,7 +658,8 @@ fn spherical_rectangle_rand_distribution() {
 /// The products-only test of the area densities' range never accepts what
 /// the exact test (square roots and divisions) rejects, over local lengths,
 /// heights, solid angles and scales across both types' ranges; and it
-/// decides the ordinary cases (the one-shot path skips the exact test).
+/// accepts the ordinary cases (which `check_range` now settles first, by
+/// the three comparisons of `ordinary_density_range`).
 fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
     let mut next = move || {
@@ -682,7 +683,7 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
         }
     }
     // Ordinary rectangles (lengths within 2^±10 of one another, Ω above
-    // 1e-6 sr, world scale within 2^±20) are decided without the roots.
+    // 1e-6 sr, world scale within 2^±20) pass the products test too.
     for _ in 0..10_000 {
         let exp = (next() * 40.0) as i32 - 20;
         let h = 2f64.powi(-((next() * 10.0) as i32)) * (1.0 + next());
