@@ -256,10 +256,10 @@ fn judge(case: &PolygonCase, t: &mut Tally) {
     let Err(WarpError::Degenerate { what }) = build::<f64>(case) else {
         return;
     };
-    let (v, n) = directions::<f64>(case);
     if judge_coincident::<f64>(case, what, "f64", t) {
         return;
     }
+    let (v, n) = directions::<f64>(case);
     if what.contains("zero projected solid angle") || what.contains("not resolved") {
         t.zero.0 += 1;
         *t.zero_kinds.entry(case.kind).or_default() += 1;

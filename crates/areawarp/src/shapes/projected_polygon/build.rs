@@ -85,7 +85,7 @@ pub(super) fn accumulate<T: Real>(lunes: &mut [Lune<T>]) -> T {
 /// vertices `v`, which fixes the multiple of 4π of the solid angle
 /// (Gauss–Bonnet); an error where the boundary turns by ±π at a vertex
 /// (the two sides are then undefined).
-pub(super) fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
+fn rough_turning<T: Real>(v: &[Vec3<T>]) -> Result<f64, WarpError> {
     let n = v.len();
     let fold = T::from_i64(64) * &T::unit_roundoff();
     let mut turning = 0.0f64;

@@ -3,11 +3,11 @@
 //! unit vectors of vertices and normals, and the solid angle computed on
 //! demand.
 
-use super::build::{Arc, rough_turning};
+use super::build::Arc;
 use super::coincident::{coincidence_scale, distinct};
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::polygon_measures::oriented_solid_angle_with_turning;
+use crate::shapes::polygon_measures::oriented_solid_angle_of_units;
 use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 
@@ -118,8 +118,7 @@ pub(super) fn unit_direction<T: Real>(
 /// vertices (the smaller region, in `[0, 2π)`): the fan `prepare` skips
 /// where the rough sum decides, computed when it is asked for.
 fn solid_angle_of_units<T: Real>(v: &[Vec3<T>]) -> T {
-    let turning = rough_turning(v).expect("accepted vertices");
-    let omega = oriented_solid_angle_with_turning(v, turning);
+    let omega = oriented_solid_angle_of_units(v);
     let four_pi = T::pi() * &T::from_i64(4);
     let other = four_pi - &omega;
     if omega > other { other } else { omega }

@@ -1,12 +1,14 @@
 //! The mixed-precision construction of a narrow scalar type (`f32`): the
 //! clipping, the lune partition and every per-edge and per-lune constant
-//! are computed in the wide type (`f64`) from the unit vertices and then
+//! (except the clamping ranges, made lazily from the rounded constants:
+//! `ranges.rs`) are computed in the wide type (`f64`) from the unit vertices and then
 //! rounded to `T` for the per-sample path, as the spherical triangle and
 //! rectangle do. An `f32` polygon is thereby accepted when the `f64`
 //! constructor accepts the same values and no two consecutive unit
 //! vertices round together in `f32`; its constants are
 //! correctly rounded (no cancellation in `f32`), and its samples are held
-//! in their lune and interval by the rounded ranges.
+//! in their lune and interval by the ranges `ranges.rs` computes from the
+//! rounded constants.
 
 use super::build::{Arc, Built, accumulate};
 use super::lune::{EdgeSide, Lune, LuneEdge, Pair};

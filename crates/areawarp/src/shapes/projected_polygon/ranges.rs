@@ -4,8 +4,10 @@
 //! sample falls in the interval ([`Pair::range`]), not by the constructor:
 //! it is a quarter of a quad's construction otherwise, and a renderer that
 //! builds the sampler for a few samples pays only for the intervals it
-//! visits. The values are those the constructor used to compute (the same
-//! operations on the same stored constants).
+//! visits. In `f64` the values are those the constructor used to compute
+//! (the same operations on the same stored constants); in `f32` they are
+//! computed from the rounded constants and arcs (no longer rounded from
+//! `f64`) and widened by 64 `f32` units.
 
 use super::build::Arc;
 use super::lune::{LuneEdge, Pair};
