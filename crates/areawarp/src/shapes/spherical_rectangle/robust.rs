@@ -91,20 +91,10 @@ struct Anchor<T> {
 /// The per-shape constants of the robust map and of the (shared) inverse.
 #[derive(Clone, Debug)]
 pub(super) struct Robust<T> {
-    x0: T,
-    x1: T,
+    /// The quantities up to Ω (lengths, end columns, `S_d`, `C_d`, Ω).
+    parts: Omega<T>,
     inv_lx: T,
-    y0: T,
-    y1: T,
-    ly: T,
     inv_ly: T,
-    h: T,
-    h2: T,
-    l0: T,
-    l1: T,
-    l0sq: T,
-    l1sq: T,
-    sigma: T,
     y_sum: T,
     y_same_sign: bool,
     /// `σ·S_d` with the power of two `σ = 2^k` that brings `S_d` into
@@ -113,15 +103,8 @@ pub(super) struct Robust<T> {
     /// `σ` and `1/σ²`.
     sd_scale: T,
     inv_scale2: T,
-    cd: T,
-    sdcd: T,
-    sd2: T,
-    cd2: T,
     /// `2ℓ₀ℓ₁ C_d S_d · σ`.
     k_x: T,
-    col0: Column<T>,
-    col1: Column<T>,
-    omega: T,
     half_omega: T,
     anchors: [Anchor<T>; 2],
 }
@@ -197,6 +180,17 @@ pub(super) struct Omega<T> {
 }
 
 impl<T: Real> Omega<T> {
+    /// The lengths a column needs.
+    fn lengths(&self) -> Lengths<'_, T> {
+        Lengths {
+            l0: &self.l0,
+            l1: &self.l1,
+            l0sq: &self.l0sq,
+            l1sq: &self.l1sq,
+            sigma: &self.sigma,
+        }
+    }
+
     /// Ω of the rectangle of `g` and what it is computed from.
     #[inline(always)]
     pub fn new(g: &Geometry<T>) -> Self {
@@ -339,40 +333,13 @@ impl<T: Real> Robust<T> {
     pub fn from_omega(g: &Geometry<T>, o: Omega<T>, only_anchor: Option<usize>) -> Self {
         let two = T::from_i64(2);
         let half = T::from_ratio(1, 2);
-        let Omega {
-            x0,
-            x1,
-            y0,
-            y1,
-            ly,
-            h,
-            h2,
-            l0,
-            l1,
-            l0sq,
-            l1sq,
-            sigma,
-            col0,
-            col1,
-            sd,
-            cd,
-            sdcd,
-            sd2,
-            cd2,
-            omega,
-        } = o;
-        let lengths = Lengths {
-            l0: &l0,
-            l1: &l1,
-            l0sq: &l0sq,
-            l1sq: &l1sq,
-            sigma: &sigma,
-        };
+        let lengths = o.lengths();
+        let sd = &o.sd;
         // σ = 2^k, k = −⌊log₂ S_d⌋: the anchors' sines of half angles that
         // are O(S_d), and the sample's sin(τ/2), are stored times σ, so that
         // the products of four of them in `column_at` do not underflow when
         // the observer grazes the plane (S_d → 0); the scaling is exact.
-        let k = if positive(&sd) {
+        let k = if positive(sd) {
             (-floor_log2(sd.to_f64())).clamp(0, 1000)
         } else {
             0
@@ -380,67 +347,35 @@ impl<T: Real> Robust<T> {
         let sd_scale = T::exp2i(k);
         let inv_scale2 = T::exp2i(-2 * k);
         let sd_scaled = sd.clone() * &sd_scale;
+        let at_x0 = || anchor(&o.col0, &o.x0, false, sd, &o.cd, &sd_scale, &lengths);
+        let at_x1 = || anchor(&o.col1, &o.x1, true, sd, &o.cd, &sd_scale, &lengths);
         let anchors = match only_anchor {
             Some(i) => {
-                let a = if i == 0 {
-                    anchor(&col0, &x0, false, &sd, &cd, &sd_scale, &lengths)
-                } else {
-                    anchor(&col1, &x1, true, &sd, &cd, &sd_scale, &lengths)
-                };
+                let a = if i == 0 { at_x0() } else { at_x1() };
                 [a.clone(), a]
             }
-            None => [
-                anchor(&col0, &x0, false, &sd, &cd, &sd_scale, &lengths),
-                anchor(&col1, &x1, true, &sd, &cd, &sd_scale, &lengths),
-            ],
+            None => [at_x0(), at_x1()],
         };
         Robust {
             // 1/ℓx, 1/ℓy from the frame (no division here).
             inv_lx: g.inv_lx.clone(),
             inv_ly: g.inv_ly.clone(),
-            y_sum: y1.clone() + &y0,
-            y_same_sign: (y0 >= T::zero()) || (y1 <= T::zero()),
-            k_x: two * &l0 * &l1 * &sdcd * &sd_scale,
+            y_sum: o.y1.clone() + &o.y0,
+            y_same_sign: (o.y0 >= T::zero()) || (o.y1 <= T::zero()),
+            k_x: two * &o.l0 * &o.l1 * &o.sdcd * &sd_scale,
             anchors,
             sd_scale,
             inv_scale2,
             sd_scaled,
-            x0,
-            x1,
-            y0,
-            y1,
-            ly,
-            h,
-            h2,
-            l0,
-            l1,
-            l0sq,
-            l1sq,
-            sigma,
-            cd,
-            sdcd,
-            sd2,
-            cd2,
-            col0,
-            col1,
-            half_omega: omega.clone() * &half,
-            omega,
+            half_omega: o.omega.clone() * &half,
+            parts: o,
         }
     }
 
     /// [`solid_angle_between`] with this rectangle's `S_d`, `C_d`.
     fn between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
-        solid_angle_between(&self.sdcd, &self.sd2, &self.cd2, ca, cb, dw)
-    }
-
-    fn lengths(&self) -> Lengths<'_, T> {
-        Lengths {
-            l0: &self.l0,
-            l1: &self.l1,
-            l0sq: &self.l0sq,
-            l1sq: &self.l1sq,
-            sigma: &self.sigma,
-        }
+        let o = &self.parts;
+        solid_angle_between(&o.sdcd, &o.sd2, &o.cd2, ca, cb, dw)
     }
 
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
@@ -465,7 +400,7 @@ impl<T: Real> Robust<T> {
         let gu = a.c_phi.clone() * &ct - &(a.s_phi.clone() * &st * &self.inv_scale2);
         let sp = a.s_p.clone() * &ct - &(a.c_p.clone() * &st);
         let sm = a.s_m.clone() * &ct + &(a.c_m.clone() * &st);
-        let (l0, l1) = (&self.l0, &self.l1);
+        let (l0, l1) = (&self.parts.l0, &self.parts.l1);
         // √q for q = sp·sm·(ℓ₀sm + ℓ₁sp)(ℓ₀sp + ℓ₁sm), as the product of two
         // roots of products of two factors: near an anchor with the observer
         // above the interior (C_d → 0) every factor is O(C_d), and a product
@@ -481,7 +416,7 @@ impl<T: Real> Robust<T> {
             // Same sign: x(ω) − x(ωₑ) = (Nₑ/σ) δω (ω + ωₑ) F / ((ω√Sₑ + ωₑ√S) √S),
             // everything multiplied through by g = cos(Φ̃/2) S_d.
             let g = gu * &self.sd_scaled;
-            let wh = su * &self.cd;
+            let wh = su * &self.parts.cd;
             let dh = st * &a.n;
             let (one_m_abs, aw) = if wh >= T::zero() {
                 (sp, wh.clone())
@@ -518,18 +453,18 @@ impl<T: Real> Robust<T> {
     pub fn row_at(&self, x: &T, v: &T) -> Row<T> {
         let one = T::one();
         let x2 = x.square();
-        let d2 = x2.clone() + &self.h2;
+        let d2 = x2.clone() + &self.parts.h2;
         let dd = d2.sqrt();
-        let r0 = (x2.clone() + &self.l0sq).sqrt();
-        let r1 = (x2 + &self.l1sq).sqrt();
+        let r0 = (x2.clone() + &self.parts.l0sq).sqrt();
+        let r1 = (x2 + &self.parts.l1sq).sqrt();
         let ir0 = one.clone() / &r0;
         let ir1 = one.clone() / &r1;
-        let s0 = self.y0.clone() * &ir0;
-        let s1 = self.y1.clone() * &ir1;
+        let s0 = self.parts.y0.clone() * &ir0;
+        let s1 = self.parts.y1.clone() * &ir1;
         // h₁ − h₀ (hⱼ = yⱼ/rⱼ, the paper's h).
         let dh = if self.y_same_sign {
-            d2.clone() * &self.ly * &self.y_sum
-                / &((self.y1.clone() * &r0 + &(self.y0.clone() * &r1)) * &r0 * &r1)
+            d2.clone() * &self.parts.ly * &self.y_sum
+                / &((self.parts.y1.clone() * &r0 + &(self.parts.y0.clone() * &r1)) * &r0 * &r1)
         } else {
             s1.clone() - &s0
         };
@@ -539,9 +474,9 @@ impl<T: Real> Robust<T> {
             + &(v.clone() * &vm * &dh.square());
         let c = c2.sqrt();
         let (se, re, ye, dsv, mirrored) = if *v <= T::from_ratio(1, 2) {
-            (s0, r0, self.y0.clone(), v.clone() * &dh, false)
+            (s0, r0, self.parts.y0.clone(), v.clone() * &dh, false)
         } else {
-            (-s1, r1, -self.y1.clone(), vm * &dh, true)
+            (-s1, r1, -self.parts.y1.clone(), vm * &dh, true)
         };
         let s = se.clone() + &dsv;
         let dy = if se < T::zero() && s > T::zero() {
@@ -574,21 +509,42 @@ impl<T: Real> Robust<T> {
     #[allow(clippy::too_many_arguments)]
     pub fn uv_of(&self, x: &T, ax: &T, bx: &T, y: &T, ay: &T, by: &T) -> (T, T) {
         let one = T::one();
-        let col = column(x, &self.lengths());
+        let col = column(x, &self.parts.lengths());
         let u = if ax <= bx {
-            let dw = omega_diff(&self.lengths(), &self.x0, &self.col0, x, &col, ax);
-            self.between(&self.col0, &col, &dw) / &self.omega
+            let dw = omega_diff(
+                &self.parts.lengths(),
+                &self.parts.x0,
+                &self.parts.col0,
+                x,
+                &col,
+                ax,
+            );
+            self.between(&self.parts.col0, &col, &dw) / &self.parts.omega
         } else {
-            let dw = omega_diff(&self.lengths(), x, &col, &self.x1, &self.col1, bx);
-            one.clone() - &(self.between(&col, &self.col1, &dw) / &self.omega)
+            let dw = omega_diff(
+                &self.parts.lengths(),
+                x,
+                &col,
+                &self.parts.x1,
+                &self.parts.col1,
+                bx,
+            );
+            one.clone() - &(self.between(&col, &self.parts.col1, &dw) / &self.parts.omega)
         };
-        let d2 = x.square() + &self.h2;
+        let d2 = x.square() + &self.parts.h2;
         let ry = (d2.clone() + &y.square()).sqrt();
-        let total = row_diff(&self.y0, &col.r0, &self.y1, &col.r1, &self.ly, &d2);
+        let total = row_diff(
+            &self.parts.y0,
+            &col.r0,
+            &self.parts.y1,
+            &col.r1,
+            &self.parts.ly,
+            &d2,
+        );
         let v = if ay <= by {
-            row_diff(&self.y0, &col.r0, y, &ry, ay, &d2) / &total
+            row_diff(&self.parts.y0, &col.r0, y, &ry, ay, &d2) / &total
         } else {
-            one - &(row_diff(y, &ry, &self.y1, &col.r1, by, &d2) / &total)
+            one - &(row_diff(y, &ry, &self.parts.y1, &col.r1, by, &d2) / &total)
         };
         (u, v)
     }
@@ -597,7 +553,7 @@ impl<T: Real> Robust<T> {
     /// (`c = −w·ẑ > 0`) on the plane: `(x, y)` and the clamped offsets
     /// `(x − x₀, x₁ − x, y − y₀, y₁ − y)`.
     pub fn hit(&self, a: &T, b: &T, c: &T) -> [T; 6] {
-        let k = self.h.clone() / c;
+        let k = self.parts.h.clone() / c;
         let x = a.clone() * &k;
         let y = b.clone() * &k;
         self.offsets(x, y)
@@ -607,12 +563,12 @@ impl<T: Real> Robust<T> {
     /// rectangle.
     pub fn offsets(&self, x: T, y: T) -> [T; 6] {
         let zero = T::zero();
-        let x = x.clamp(&self.x0, &self.x1);
-        let y = y.clamp(&self.y0, &self.y1);
-        let ax = (x.clone() - &self.x0).max(&zero);
-        let bx = (self.x1.clone() - &x).max(&zero);
-        let ay = (y.clone() - &self.y0).max(&zero);
-        let by = (self.y1.clone() - &y).max(&zero);
+        let x = x.clamp(&self.parts.x0, &self.parts.x1);
+        let y = y.clamp(&self.parts.y0, &self.parts.y1);
+        let ax = (x.clone() - &self.parts.x0).max(&zero);
+        let bx = (self.parts.x1.clone() - &x).max(&zero);
+        let ay = (y.clone() - &self.parts.y0).max(&zero);
+        let by = (self.parts.y1.clone() - &y).max(&zero);
         [x, ax, bx, y, ay, by]
     }
 }

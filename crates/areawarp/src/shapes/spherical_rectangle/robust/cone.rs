@@ -23,7 +23,13 @@ impl<T: Real> Cone<T> {
     /// The faces and edges of the cone of the rectangle of `r`.
     pub fn new(r: &Robust<T>) -> Self {
         let zero = T::zero();
-        let (x0, x1, y0, y1, h) = (&r.x0, &r.x1, &r.y0, &r.y1, &r.h);
+        let (x0, x1, y0, y1, h) = (
+            &r.parts.x0,
+            &r.parts.x1,
+            &r.parts.y0,
+            &r.parts.y1,
+            &r.parts.h,
+        );
         let unit = |v: [T; 3]| -> [T; 3] {
             let inv = T::one() / &length(&v);
             v.map(|c| c * &inv)
