@@ -59,18 +59,6 @@ pub(super) struct Parts<T> {
     pub pairs: Vec<Pair<T>>,
 }
 
-impl<T> Parts<T> {
-    /// No arcs, lunes, edges or intervals (no allocation).
-    pub fn empty() -> Self {
-        Parts {
-            arcs: Vec::new(),
-            lunes: Vec::new(),
-            edges: Vec::new(),
-            pairs: Vec::new(),
-        }
-    }
-}
-
 /// Sets each lune's cumulative areas before and after it and its index
 /// among the lunes of positive area (those that are sampled); returns the
 /// total, Π.

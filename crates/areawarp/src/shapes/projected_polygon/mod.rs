@@ -19,7 +19,7 @@ use self::build::{Parts, clip, fit_lune, partition, prepare};
 use self::coincident::coincidence_scale;
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{ActiveLune, LuneCdf, Side, SideFit};
-use self::narrow::{narrow_measure, narrow_parts, representable, unrepresentable};
+use self::narrow::{Stored, narrow_measure, narrow_parts, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -161,13 +161,11 @@ pub struct ProjectedPolygon<T: Real> {
     source: Source<T>,
     inversion: MarginalInversion,
     frame: Option<Frame<T>>,
-    /// The clipped boundary, lunes, edges and intervals in `T`, made by the
-    /// constructor (empty for a type narrower than its `Real::Wide`).
-    parts: Parts<T>,
-    /// For a type narrower than its `Real::Wide` (`f32`), the partition in
-    /// the wide type (else `None`) and its rounding to `T`, made at the
+    /// The clipped boundary, lunes, edges and intervals as the constructor
+    /// made them: in `T`, or in `T::Wide` for a narrower type (`f32`).
+    stored: Stored<T>,
+    /// For a narrower type, the stored parts rounded to `T`, made at the
     /// first use ([`ProjectedPolygon::parts`]).
-    wide: Option<Box<Parts<T::Wide>>>,
     narrowed: OnceLock<Parts<T>>,
     /// The lunes of positive area, by azimuth, with their fitted inverse
     /// marginals (the list made at the first sample,
@@ -346,7 +344,7 @@ impl<T: Real> ProjectedPolygon<T> {
             &coincidence_scale::<T>(),
             |i, j| source.same_direction(i, j),
         )?;
-        let (parts, wide, measure) = if T::precision() < <T::Wide as Real>::precision() {
+        let (stored, measure) = if T::precision() < <T::Wide as Real>::precision() {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
@@ -354,10 +352,10 @@ impl<T: Real> ProjectedPolygon<T> {
             // Π in T as the rounded lunes sum it; the rounding of the
             // lunes, edges and intervals waits for the first sample.
             let measure = narrow_measure::<T>(&parts_w.lunes).ok_or_else(unrepresentable)?;
-            (Parts::empty(), Some(Box::new(parts_w)), measure)
+            (Stored::Wide(parts_w), measure)
         } else {
             let (parts, measure) = clip(&vertices_w, narrow3::<T>).and_then(partition)?;
-            (parts, None, measure)
+            (Stored::Own(parts), measure)
         };
         let solid_angle = OnceLock::new();
         if let Some(omega) = solid_angle_w {
@@ -367,8 +365,7 @@ impl<T: Real> ProjectedPolygon<T> {
             source,
             inversion,
             frame,
-            parts,
-            wide,
+            stored,
             narrowed: OnceLock::new(),
             active: OnceLock::new(),
             measure,
@@ -382,9 +379,9 @@ impl<T: Real> ProjectedPolygon<T> {
     /// it).
     #[inline]
     fn parts(&self) -> &Parts<T> {
-        match &self.wide {
-            None => &self.parts,
-            Some(wide) => self.narrowed.get_or_init(|| narrow_parts(wide)),
+        match &self.stored {
+            Stored::Own(parts) => parts,
+            Stored::Wide(wide) => self.narrowed.get_or_init(|| narrow_parts(wide)),
         }
     }
 

@@ -52,6 +52,17 @@ fn n2<T: Real>((a, b): &(T::Wide, T::Wide)) -> (T, T) {
     (T::narrow(a), T::narrow(b))
 }
 
+/// The parts as the constructor made them: in the polygon's own type, or
+/// (for a type narrower than its `Real::Wide`) in the wide type, rounded
+/// to `T` at the first sample ([`narrow_parts`]).
+#[derive(Clone, Debug)]
+pub(super) enum Stored<T: Real> {
+    /// In `T`.
+    Own(Parts<T>),
+    /// In `T::Wide`.
+    Wide(Parts<T::Wide>),
+}
+
 /// The area of the wide lune `l` in `T`: zero for a lune the wide
 /// partition does not sample, or whose doubled area rounds to zero.
 fn narrow_area<T: Real>(l: &Lune<T::Wide>, two_area_start: &T) -> T {
