@@ -8,7 +8,10 @@
 //! vertices round together in `f32`; its constants are
 //! correctly rounded (no cancellation in `f32`), and its samples are held
 //! in their lune and interval by the ranges `ranges.rs` computes from the
-//! rounded constants.
+//! rounded constants. The constructor keeps the wide partition
+//! ([`Stored::Wide`]) and needs only Π in `T` ([`narrow_measure`]); the
+//! rounded parts ([`narrow_parts`]) are made at the first sample, so that
+//! a polygon built for its measure alone never rounds them.
 
 use super::build::{Arc, Parts, accumulate};
 use super::lune::{EdgeSide, Lune, LuneEdge, Pair};
