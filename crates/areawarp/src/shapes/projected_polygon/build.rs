@@ -49,13 +49,14 @@ pub(super) struct Arc<T> {
     pub n: Vec3<T>,
 }
 
-/// Everything `new` precomputes.
-pub(super) struct Built<T> {
+/// The clipped boundary and its partition into lunes: what `new`
+/// precomputes besides Π.
+#[derive(Clone, Debug)]
+pub(super) struct Parts<T> {
     pub arcs: Vec<Arc<T>>,
     pub lunes: Vec<Lune<T>>,
     pub edges: Vec<LuneEdge<T>>,
     pub pairs: Vec<Pair<T>>,
-    pub measure: T,
 }
 
 /// Sets each lune's cumulative areas before and after it and its index
@@ -354,8 +355,8 @@ fn at_pole<T: Real>(p: &Vec3<T>) -> bool {
 
 /// Partitions the clipped polygon into lunes, computes the per-edge
 /// constants, sorts each lune's edges outwards from the pole, checks the
-/// structure, and fits each lune's marginal.
-pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpError> {
+/// structure, and sums Π (returned with the parts).
+pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), WarpError> {
     let zero = T::zero();
     let u = T::unit_roundoff();
     let two_pi = T::pi() * &T::from_i64(2);
@@ -729,13 +730,15 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<Built<T>, WarpErro
              sliver too thin for the type's unit vectors)",
         ));
     }
-    Ok(Built {
-        arcs,
-        lunes,
-        edges,
-        pairs,
+    Ok((
+        Parts {
+            arcs,
+            lunes,
+            edges,
+            pairs,
+        },
         measure,
-    })
+    ))
 }
 
 /// The fitted inverse marginal of one lune, from its start and its end:

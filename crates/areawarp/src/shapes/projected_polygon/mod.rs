@@ -15,11 +15,11 @@ mod reference;
 #[cfg(test)]
 mod tests;
 
-use self::build::{Arc, Built, clip, fit_lune, partition, prepare};
+use self::build::{Parts, clip, fit_lune, partition, prepare};
 use self::coincident::coincidence_scale;
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
-use self::lune::{ActiveLune, Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
-use self::narrow::{narrow_built, representable, unrepresentable};
+use self::lune::{ActiveLune, LuneCdf, Side, SideFit};
+use self::narrow::{Stored, narrow_measure, narrow_parts, representable, unrepresentable};
 use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -157,14 +157,16 @@ pub enum MarginalInversion {
 /// # Ok::<(), areawarp::WarpError>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct ProjectedPolygon<T> {
+pub struct ProjectedPolygon<T: Real> {
     source: Source<T>,
     inversion: MarginalInversion,
     frame: Option<Frame<T>>,
-    arcs: Vec<Arc<T>>,
-    lunes: Vec<Lune<T>>,
-    edges: Vec<LuneEdge<T>>,
-    pairs: Vec<Pair<T>>,
+    /// The clipped boundary, lunes, edges and intervals as the constructor
+    /// made them: in `T`, or in `T::Wide` for a narrower type (`f32`).
+    stored: Stored<T>,
+    /// For a narrower type, the stored parts rounded to `T`, made at the
+    /// first use ([`ProjectedPolygon::parts`]).
+    narrowed: OnceLock<Parts<T>>,
     /// The lunes of positive area, by azimuth, with their fitted inverse
     /// marginals (the list made at the first sample,
     /// [`ProjectedPolygon::active`]; each fit at the first sample in its
@@ -342,39 +344,45 @@ impl<T: Real> ProjectedPolygon<T> {
             &coincidence_scale::<T>(),
             |i, j| source.same_direction(i, j),
         )?;
-        let built = if T::precision() < <T::Wide as Real>::precision() {
+        let (stored, measure) = if T::precision() < <T::Wide as Real>::precision() {
             if !representable::<T>(&vertices_w) {
                 return Err(unrepresentable());
             }
-            let built_w = clip(&vertices_w, Vec3::clone).and_then(partition)?;
-            narrow_built::<T>(built_w).ok_or_else(unrepresentable)?
+            let (parts_w, _) = clip(&vertices_w, Vec3::clone).and_then(partition)?;
+            // Π in T as the rounded lunes sum it; the rounding of the
+            // lunes, edges and intervals waits for the first sample.
+            let measure = narrow_measure::<T>(&parts_w.lunes).ok_or_else(unrepresentable)?;
+            (Stored::Wide(parts_w), measure)
         } else {
-            clip(&vertices_w, narrow3::<T>).and_then(partition)?
+            let (parts, measure) = clip(&vertices_w, narrow3::<T>).and_then(partition)?;
+            (Stored::Own(parts), measure)
         };
         let solid_angle = OnceLock::new();
         if let Some(omega) = solid_angle_w {
             let _ = solid_angle.set(T::narrow(&omega));
         }
-        let Built {
-            arcs,
-            lunes,
-            edges,
-            pairs,
-            measure,
-        } = built;
         Ok(ProjectedPolygon {
             source,
             inversion,
             frame,
-            arcs,
-            lunes,
-            edges,
-            pairs,
+            stored,
+            narrowed: OnceLock::new(),
             active: OnceLock::new(),
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),
         })
+    }
+
+    /// The partition in `T` (for `f32`, rounded from `f64` on the first
+    /// call: a polygon built only for its [`Warp::measure`] never rounds
+    /// it).
+    #[inline]
+    fn parts(&self) -> &Parts<T> {
+        match &self.stored {
+            Stored::Own(parts) => parts,
+            Stored::Wide(wide) => self.narrowed.get_or_init(|| narrow_parts(wide)),
+        }
     }
 
     /// The marginal inversion setting.
@@ -422,7 +430,8 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The largest number of edges crossing one lune (2 for a convex
     /// polygon off the pole, 1 around it): the per-sample cost factor.
     pub fn max_edges_per_lune(&self) -> usize {
-        self.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
+        let parts = self.parts();
+        parts.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
     }
 
     /// The active lune that `u` falls in (its index among the lunes and its
@@ -431,7 +440,7 @@ impl<T: Real> ProjectedPolygon<T> {
     /// that side's marginal: `y ∈ [0, 1/2]`-ish from the start, or the
     /// complementary position from the end, computed from `1 − u` (exact
     /// for `u ≥ 1/2`) so that the last lune keeps its relative accuracy.
-    fn select(&self, u: &T) -> (usize, &[SideFit<T>; 2], Side, T) {
+    fn select<'a>(&'a self, parts: &'a Parts<T>, u: &T) -> (usize, &'a [SideFit<T>; 2], Side, T) {
         let u = clamp_unit(u);
         let half = T::from_ratio(1, 2);
         let (zero, one) = (T::zero(), T::one());
@@ -441,15 +450,15 @@ impl<T: Real> ProjectedPolygon<T> {
         let t_rev = (one.clone() - &u) * &self.measure;
         let k = if u <= half {
             active[..na - 1].partition_point(|a| {
-                let lune = &self.lunes[a.lune];
+                let lune = &parts.lunes[a.lune];
                 lune.cum_start.clone() + &lune.area <= t
             })
         } else {
-            active[..na - 1].partition_point(|a| self.lunes[a.lune].cum_after > t_rev)
+            active[..na - 1].partition_point(|a| parts.lunes[a.lune].cum_after > t_rev)
         };
         let a = &active[k];
-        let lune = &self.lunes[a.lune];
-        let fits = self.fit(a);
+        let lune = &parts.lunes[a.lune];
+        let fits = self.fit(parts, a);
         let y = ((t - &lune.cum_start) / &lune.area).clamp(&zero, &one);
         if y <= fits[0].fh {
             (a.lune, fits, Side::Start, y)
@@ -462,23 +471,24 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The lunes of positive area, by azimuth: listed at the first sample
     /// (not by the constructor, which `measure` alone does not need).
     fn active(&self) -> &[ActiveLune<T>] {
-        self.active.get_or_init(|| ActiveLune::of(&self.lunes))
+        self.active
+            .get_or_init(|| ActiveLune::of(&self.parts().lunes))
     }
 
     /// The fitted inverse marginal of the active lune `a`, from the start and
     /// the end, computed the first time a sample falls in the lune: most of
     /// the construction's cost otherwise, and a renderer that builds the
     /// sampler for a few samples pays only for the lunes it visits.
-    fn fit<'a>(&'a self, a: &'a ActiveLune<T>) -> &'a [SideFit<T>; 2] {
+    fn fit<'a>(&'a self, parts: &Parts<T>, a: &'a ActiveLune<T>) -> &'a [SideFit<T>; 2] {
         a.fit
-            .get_or_init(|| fit_lune(&self.lunes[a.lune], &self.edges, &self.pairs))
+            .get_or_init(|| fit_lune(&parts.lunes[a.lune], &parts.edges, &parts.pairs))
     }
 
-    fn lune_cdf(&self, l: usize, side: Side) -> LuneCdf<'_, T> {
+    fn lune_cdf(parts: &Parts<T>, l: usize, side: Side) -> LuneCdf<'_, T> {
         LuneCdf {
-            lune: &self.lunes[l],
-            edges: &self.edges,
-            pairs: &self.pairs,
+            lune: &parts.lunes[l],
+            edges: &parts.edges,
+            pairs: &parts.pairs,
             side,
         }
     }
@@ -486,9 +496,16 @@ impl<T: Real> ProjectedPolygon<T> {
     /// x = F⁻¹(y) from `side` of lune `l` (active), with the configured
     /// inversion, in the transformed half-marginal G of [`SideFit`]
     /// (`fits` its fits, from [`ProjectedPolygon::select`]).
-    fn invert_marginal(&self, l: usize, fits: &[SideFit<T>; 2], side: Side, y: &T) -> T {
+    fn invert_marginal(
+        &self,
+        parts: &Parts<T>,
+        l: usize,
+        fits: &[SideFit<T>; 2],
+        side: Side,
+        y: &T,
+    ) -> T {
         let fit = &fits[side as usize];
-        let cdf = fit.half(self.lune_cdf(l, side));
+        let cdf = fit.half(Self::lune_cdf(parts, l, side));
         let target = cdf.target(y);
         let cubic = &fit.cubic;
         if target <= T::zero() && fit.m > 1 && self.inversion != MarginalInversion::Cubic {
@@ -532,9 +549,10 @@ impl<T: Real> ProjectedPolygon<T> {
     /// against a converged inversion). The result lies in
     /// `[φ₀, φ₀ + 2π]`, φ₀ the azimuth of the first lune.
     pub fn azimuth(&self, u: &T) -> T {
-        let (l, fits, side, y) = self.select(u);
-        let lune = &self.lunes[l];
-        let x = self.invert_marginal(l, fits, side, &y);
+        let parts = self.parts();
+        let (l, fits, side, y) = self.select(parts, u);
+        let lune = &parts.lunes[l];
+        let x = self.invert_marginal(parts, l, fits, side, &y);
         match side {
             Side::Start => lune.start.clone() + &x,
             Side::End => lune.end_az.clone() - &x,
@@ -552,18 +570,19 @@ impl<T: Real> ProjectedPolygon<T> {
 
     /// F at the reduced azimuth `p` of lune `l`, evaluated from the nearer end.
     fn cdf_at(&self, l: usize, p: &T) -> T {
-        let lune = &self.lunes[l];
+        let parts = self.parts();
+        let lune = &parts.lunes[l];
         let (zero, one) = (T::zero(), T::one());
         if lune.active.is_none() {
             return (lune.cum_start.clone() / &self.measure).clamp(&zero, &one);
         }
         let x = (p.clone() - &lune.start).clamp(&zero, &lune.width);
         if x.clone() * &T::from_i64(2) <= lune.width {
-            let f = self.lune_cdf(l, Side::Start).cdf(&x);
+            let f = Self::lune_cdf(parts, l, Side::Start).cdf(&x);
             ((lune.cum_start.clone() + &(f * &lune.area)) / &self.measure).clamp(&zero, &one)
         } else {
             let x = (lune.end_az.clone() - p).clamp(&zero, &lune.width);
-            let f = self.lune_cdf(l, Side::End).cdf(&x);
+            let f = Self::lune_cdf(parts, l, Side::End).cdf(&x);
             (one.clone() - &((lune.cum_after.clone() + &(f * &lune.area)) / &self.measure))
                 .clamp(&zero, &one)
         }
@@ -572,7 +591,8 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The lune containing azimuth `phi` and `phi` reduced into
     /// `[φ₀, φ₀ + 2π)`.
     fn locate_azimuth(&self, phi: &T) -> (usize, T) {
-        let phi0 = &self.lunes[0].start;
+        let parts = self.parts();
+        let phi0 = &parts.lunes[0].start;
         let mut p = phi.clone();
         if !(p >= *phi0 && p < phi0.clone() + &self.two_pi) {
             let turns = ((p.clone() - phi0) / &self.two_pi).floor();
@@ -582,6 +602,7 @@ impl<T: Real> ProjectedPolygon<T> {
             }
         }
         let l = self
+            .parts()
             .lunes
             .partition_point(|lune| lune.start <= p)
             .saturating_sub(1);
@@ -591,7 +612,8 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The side nearer to the reduced azimuth `p` in lune `l`, and the side
     /// coordinate's `(cos x, sin x)`.
     fn side_coordinates(&self, l: usize, p: &T) -> (Side, T, T) {
-        let lune = &self.lunes[l];
+        let parts = self.parts();
+        let lune = &parts.lunes[l];
         let x = p.clone() - &lune.start;
         let (side, x) = if x.clone() * &T::from_i64(2) <= lune.width {
             (Side::Start, x)
@@ -611,18 +633,19 @@ impl<T: Real> ProjectedPolygon<T> {
 
     /// Whether the unit local direction `d` lies in the clipped polygon.
     fn contains(&self, d: &Vec3<T>) -> bool {
+        let parts = self.parts();
         if d.z < T::zero() {
             return false;
         }
         let (l, p) = self.locate_azimuth(&d.y.atan2(&d.x));
-        let lune = &self.lunes[l];
+        let lune = &parts.lunes[l];
         if lune.active.is_none() {
             return false;
         }
         let (side, c, s) = self.side_coordinates(l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.square();
-        lune.contains(&self.edges, &self.pairs, side, &c, &s, &r2, &z2)
+        lune.contains(&parts.edges, &parts.pairs, side, &c, &s, &r2, &z2)
     }
 }
 
@@ -630,9 +653,10 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     type Point = Vec3<T>;
 
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
-        let (l, fits, side, y) = self.select(u);
-        let lune = &self.lunes[l];
-        let x = self.invert_marginal(l, fits, side, &y);
+        let parts = self.parts();
+        let (l, fits, side, y) = self.select(parts, u);
+        let lune = &parts.lunes[l];
+        let x = self.invert_marginal(parts, l, fits, side, &y);
         let (s, c) = x.sin_cos();
         let (cos_phi, sin_phi) = match side {
             // φ = a + x.
@@ -653,9 +677,9 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
             }
         };
         let (r2, z2) = lune.sample(
-            &self.edges,
-            &self.pairs,
-            &self.arcs,
+            &parts.edges,
+            &parts.pairs,
+            &parts.arcs,
             side,
             &c,
             &s,
@@ -687,43 +711,45 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     /// `(u, v) = (F(φ), G_φ(r²))`; `None` if `p` is not finite or lies
     /// farther than `2^(−p/2)` outside the polygon.
     fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
+        let parts = self.parts();
         InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let refuse = || InverseError::refuse(self, p);
         let d = self.local(p).normalized().ok_or_else(refuse)?;
         let (mut l, mut p) = self.locate_azimuth(&d.y.atan2(&d.x));
-        if self.lunes[l].active.is_none() {
+        if parts.lunes[l].active.is_none() {
             // On a meridian bounding the polygon, within rounding: snap to
             // the nearer end of the neighbouring active lunes.
-            let m = self.lunes.len();
+            let m = parts.lunes.len();
             let next = (1..m)
                 .map(|i| (l + i) % m)
-                .find(|&j| self.lunes[j].active.is_some())
+                .find(|&j| parts.lunes[j].active.is_some())
                 .ok_or_else(refuse)?;
             let prev = (1..m)
                 .map(|i| (l + m - i) % m)
-                .find(|&j| self.lunes[j].active.is_some())
+                .find(|&j| parts.lunes[j].active.is_some())
                 .ok_or_else(refuse)?;
-            let to_next = self.lunes[l].end_az.clone() - &p;
-            let to_prev = p.clone() - &self.lunes[l].start;
+            let to_next = parts.lunes[l].end_az.clone() - &p;
+            let to_prev = p.clone() - &parts.lunes[l].start;
             if to_next <= to_prev {
                 l = next;
-                p = self.lunes[next].start.clone();
+                p = parts.lunes[next].start.clone();
             } else {
                 l = prev;
-                p = self.lunes[prev].end_az.clone();
+                p = parts.lunes[prev].end_az.clone();
             }
         }
         let u = self.cdf_at(l, &p);
         let (side, c, s) = self.side_coordinates(l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.max(&T::zero()).square();
-        let v = self.lunes[l].conditional_cdf(&self.edges, &self.pairs, side, &c, &s, &r2, &z2);
+        let v = parts.lunes[l].conditional_cdf(&parts.edges, &parts.pairs, side, &c, &s, &r2, &z2);
         Ok([u, v])
     }
 
     /// `| |p| − 1 |` plus, for a direction outside the clipped polygon, the
     /// Euclidean distance from `p/|p|` to its boundary.
     fn outside_by(&self, p: &Vec3<T>) -> T {
+        let parts = self.parts();
         if !p.is_finite() {
             return T::max_value();
         }
@@ -737,7 +763,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
             return radial;
         }
         let mut best = T::max_value();
-        for arc in &self.arcs {
+        for arc in &parts.arcs {
             best = best.min(&arc_distance(&d, arc));
         }
         radial + &best

@@ -8,9 +8,12 @@
 //! vertices round together in `f32`; its constants are
 //! correctly rounded (no cancellation in `f32`), and its samples are held
 //! in their lune and interval by the ranges `ranges.rs` computes from the
-//! rounded constants.
+//! rounded constants. The constructor keeps the wide partition
+//! ([`Stored::Wide`]) and needs only Π in `T` ([`narrow_measure`]); the
+//! rounded parts ([`narrow_parts`]) are made at the first sample, so that
+//! a polygon built for its measure alone never rounds them.
 
-use super::build::{Arc, Built, accumulate};
+use super::build::{Arc, Parts, accumulate};
 use super::lune::{EdgeSide, Lune, LuneEdge, Pair};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -52,10 +55,46 @@ fn n2<T: Real>((a, b): &(T::Wide, T::Wide)) -> (T, T) {
     (T::narrow(a), T::narrow(b))
 }
 
-/// The wide construction rounded to `T`. Lunes whose area rounds to zero
-/// are not sampled; `None` if nothing is left (the projected solid angle
-/// is not representable in `T`).
-pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
+/// The parts as the constructor made them: in the polygon's own type, or
+/// (for a type narrower than its `Real::Wide`) in the wide type, rounded
+/// to `T` at the first sample ([`narrow_parts`]).
+#[derive(Clone, Debug)]
+pub(super) enum Stored<T: Real> {
+    /// In `T`.
+    Own(Parts<T>),
+    /// In `T::Wide`.
+    Wide(Parts<T::Wide>),
+}
+
+/// The area of the wide lune `l` in `T`: zero for a lune the wide
+/// partition does not sample, or whose doubled area rounds to zero.
+fn narrow_area<T: Real>(l: &Lune<T::Wide>, two_area_start: &T) -> T {
+    if l.active.is_some() && *two_area_start > T::zero() {
+        n::<T>(&l.area)
+    } else {
+        T::zero()
+    }
+}
+
+/// Π in `T`, as [`narrow_parts`] sums it (`accumulate`: the same
+/// additions in the same order, hence the same bits), from the wide
+/// lunes alone; `None` if it is not positive and finite (the projected
+/// solid angle is not representable in `T`). The constructor needs only
+/// this; the rounded parts wait for the first sample.
+pub(super) fn narrow_measure<T: Real>(lunes: &[Lune<T::Wide>]) -> Option<T> {
+    let mut measure = T::zero();
+    for l in lunes {
+        let area = narrow_area::<T>(l, &n::<T>(&l.two_area_start));
+        if area > T::zero() {
+            measure += &area;
+        }
+    }
+    (measure > T::zero() && measure.is_finite()).then_some(measure)
+}
+
+/// The wide partition rounded to `T`. Lunes whose area rounds to zero are
+/// not sampled.
+pub(super) fn narrow_parts<T: Real>(w: &Parts<T::Wide>) -> Parts<T> {
     let arcs = w
         .arcs
         .iter()
@@ -92,7 +131,6 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             range: OnceLock::new(),
         })
         .collect();
-    let zero = T::zero();
     let mut lunes: Vec<Lune<T>> = w
         .lunes
         .iter()
@@ -104,15 +142,11 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
                 width: n::<T>(&l.width),
                 cs_a: n2::<T>(&l.cs_a),
                 cs_b: n2::<T>(&l.cs_b),
-                area: if l.active.is_some() && two_area_start > zero {
-                    n::<T>(&l.area)
-                } else {
-                    zero.clone()
-                },
+                area: narrow_area::<T>(l, &two_area_start),
                 two_area_start,
                 two_area_end: OnceLock::new(),
-                cum_start: zero.clone(),
-                cum_after: zero.clone(),
+                cum_start: T::zero(),
+                cum_after: T::zero(),
                 first: l.first,
                 end: l.end,
                 n_edges: l.n_edges,
@@ -120,16 +154,13 @@ pub(super) fn narrow_built<T: Real>(w: Built<T::Wide>) -> Option<Built<T>> {
             }
         })
         .collect();
-    // The cumulative areas and the active lunes again, in T.
-    let measure = accumulate(&mut lunes);
-    if !(measure > zero) || !measure.is_finite() {
-        return None;
-    }
-    Some(Built {
+    // The cumulative areas and the active lunes again, in T (Π is
+    // [`narrow_measure`]'s).
+    accumulate(&mut lunes);
+    Parts {
         arcs,
         lunes,
         edges,
         pairs,
-        measure,
-    })
+    }
 }

@@ -59,8 +59,8 @@ fn projected_polygon_marginal_density_is_derivative() {
             .iter()
             .flat_map(|a| [(a.lune, Side::Start), (a.lune, Side::End)])
         {
-            let lune = &w.lunes[k];
-            let cdf = w.lune_cdf(k, side);
+            let lune = &w.parts().lunes[k];
+            let cdf = ProjectedPolygon::lune_cdf(w.parts(), k, side);
             for (a, b) in [(1, 7), (1, 2), (5, 6)] {
                 let x = lune.width.clone() * &M::from_ratio(a, b);
                 let fd = (cdf.cdf(&(x.clone() + &h)) - &cdf.cdf(&(x.clone() - &h)))
@@ -111,7 +111,7 @@ enum Height {
 
 /// The projected polygon map with the height drawn by `Height`.
 #[derive(Clone, Debug)]
-struct WithHeight<T> {
+struct WithHeight<T: Real> {
     w: ProjectedPolygon<T>,
     kind: Height,
 }
@@ -123,12 +123,13 @@ impl<T: Real> Warp<T> for WithHeight<T> {
         let phi = w.azimuth(u);
         let (l, p) = w.locate_azimuth(&phi);
         let (side, c, s) = w.side_coordinates(l, &p);
-        let lune = &w.lunes[l];
+        let parts = w.parts();
+        let lune = &parts.lunes[l];
         // The paper's intervals [z_i, z̄_i] on the meridian.
-        let iv: Vec<(T, T)> = w.pairs[lune.first..lune.end]
+        let iv: Vec<(T, T)> = parts.pairs[lune.first..lune.end]
             .iter()
             .map(|pr| {
-                let i = lune.interval(&w.edges, pr, side, &c, &s);
+                let i = lune.interval(&parts.edges, pr, side, &c, &s);
                 (i.z_out.sqrt(), i.z_in.sqrt())
             })
             .collect();
@@ -241,7 +242,7 @@ fn arvo_cubic_backward(w: &ProjectedPolygon<f64>, us: &[f64]) -> (f64, f64) {
     let fits: Vec<FittedCubic<f64>> = w
         .active()
         .iter()
-        .map(|a| FittedCubic::fit(&w.lune_cdf(a.lune, Side::Start)))
+        .map(|a| FittedCubic::fit(&ProjectedPolygon::lune_cdf(w.parts(), a.lune, Side::Start)))
         .collect();
     let errs = us
         .iter()
@@ -249,10 +250,10 @@ fn arvo_cubic_backward(w: &ProjectedPolygon<f64>, us: &[f64]) -> (f64, f64) {
             let t = u * w.measure;
             let active = w.active();
             let k = active[..active.len() - 1].partition_point(|a| {
-                let lune = &w.lunes[a.lune];
+                let lune = &w.parts().lunes[a.lune];
                 lune.cum_start + lune.area <= t
             });
-            let lune = &w.lunes[active[k].lune];
+            let lune = &w.parts().lunes[active[k].lune];
             let y = ((t - lune.cum_start) / lune.area).clamp(0.0, 1.0);
             let (lo, hi) = fits[k].bracket(&y);
             let phi = lune.start + fits[k].eval(&y).clamp(lo, hi);
