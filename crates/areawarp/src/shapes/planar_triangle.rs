@@ -340,19 +340,22 @@ impl<T: Real> Warp<T> for PlanarTriangle<T> {
         if self.variant == PlanarTriangleVariant::Fold {
             return fold::map(self, u, v);
         }
-        let u = clamp01(u);
+        // NaN u counts as 0; u ≥ 1 goes to the side u = 1 below.
+        let u = u.max(&T::zero());
         let t = clamp01(v);
-        // Anchored at A except on the side u = 1 (the edge BC), where the
-        // anchor is B or C: then A, B, C and the three edges are exact.
-        let on_bc = u >= T::one();
-        let s = u.sqrt();
+        if u < T::one() {
+            // A + s·((1 − t)(B − A) + t (C − A))
+            let w = self.e_ab.scale(&(T::one() - &t)).sub(&self.e_ca.scale(&t));
+            return self.a.add(&w.scale(&u.sqrt()));
+        }
+        // The side u = 1 (the edge BC), anchored at B or C: then B, C and
+        // the edge BC are exact. The weights are formed from s = √u as in
+        // the interior (the same polynomial: exact derivatives for duals).
+        let s = u.min(&T::one()).sqrt();
         let la = T::one() - &s;
         let lb = s.clone() * &(T::one() - &t);
         let lc = s * &t;
-        if !on_bc {
-            // A + λ_B (B − A) + λ_C (C − A)
-            anchored(&self.a, &lb, &self.e_ab, &lc, &self.e_ca)
-        } else if t <= T::from_ratio(1, 2) {
+        if t <= T::from_ratio(1, 2) {
             // B + λ_C (C − B) + λ_A (A − B)
             anchored(&self.b, &lc, &self.e_bc, &la, &self.e_ab)
         } else {
