@@ -37,7 +37,9 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 /// the same roundings as `r` times its result: `r` enters through the exact
 /// products `r·cos(qπ/2)`, `r·sin(qπ/2)` (values in `{0, ±r}`), which
 /// [`Real::rotate_quarter_turns`] then rotates by the reduced angle, so that
-/// the point costs two products fewer.
+/// the point costs two products fewer. The steps are [`Real::polar_turns`]'s
+/// default; `f32` overrides it with the same values computed in `f64`
+/// with fewer operations (`docs/quarter-turns.md`).
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
     v.polar_turns(r, half_pi)
