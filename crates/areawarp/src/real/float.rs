@@ -19,7 +19,7 @@ fn exp2i_outside_normal<T: Real>(e: i32) -> T {
 }
 
 macro_rules! impl_real_for_float {
-    ($t:ident, $bits:expr, $u:ty $(, rotate: $rotate:path)?) => {
+    ($t:ident, $bits:expr, $u:ty $(, rotate: $rotate:path)? $(, polar: $polar:path)?) => {
         impl Real for $t {
             type Wide = f64;
             #[inline]
@@ -150,6 +150,12 @@ macro_rules! impl_real_for_float {
                     $rotate(*self, *a, *b)
                 }
             )?
+            $(
+                #[inline]
+                fn polar_turns(&self, r: &Self, _half_pi: &Self) -> (Self, Self) {
+                    $polar(*self, *r)
+                }
+            )?
             #[inline]
             fn tan(&self) -> Self {
                 $t::tan(*self)
@@ -229,7 +235,13 @@ macro_rules! impl_real_for_float {
     };
 }
 
-impl_real_for_float!(f32, 24, u32, rotate: super::quarter_turns::rotate_f32);
+impl_real_for_float!(
+    f32,
+    24,
+    u32,
+    rotate: super::quarter_turns::rotate_f32,
+    polar: super::quarter_turns::polar_turns_f32
+);
 impl_real_for_float!(f64, 53, u64, rotate: super::quarter_turns::rotate_f64);
 
 #[cfg(test)]

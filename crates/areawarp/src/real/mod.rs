@@ -192,6 +192,33 @@ pub trait Real:
         let (s, c) = (self.clone() * half_pi).sin_cos();
         (c.clone() * a - &(s.clone() * b), s * a + &(c * b))
     }
+    /// `(r cos 2πv, r sin 2πv)` for `self = v ∈ [0, 1]` (an angle in turns),
+    /// reduced exactly by quarter turns (`shapes::turns::polar_turns`
+    /// documents the method): `q` and `q mod 4` from
+    /// [`Real::split_quarter_turns`] of `4v`, `r` times the exact cosine and
+    /// sine of `qπ/2` (values in `{0, ±r}`), rotated by the reduced angle
+    /// with [`Real::rotate_quarter_turns`]; `half_pi` is π/2 in this type.
+    ///
+    /// `f32` does the same in `f64` from the products `r·cos(qπ/2)`,
+    /// `r·sin(qπ/2)` (exact in `f32` and in `f64`): the same values, bit for
+    /// bit, without converting the quadrant's cosine and sine to `f32` and
+    /// the products back. NaN `v` gives NaN coordinates.
+    #[inline]
+    fn polar_turns(&self, r: &Self, half_pi: &Self) -> (Self, Self) {
+        // cos(qπ/2) and sin(qπ/2) by q mod 4.
+        const COS_Q: [f64; 4] = [1.0, 0.0, -1.0, 0.0];
+        const SIN_Q: [f64; 4] = [0.0, 1.0, 0.0, -1.0];
+        let four_v = self.clone() * &Self::from_i64(4);
+        let (q, quadrant) = four_v.split_quarter_turns();
+        let reduced = four_v - &q;
+        // r·i^q: exact.
+        let rc = r.clone() * &Self::from_f64(COS_Q[quadrant]);
+        let rs = r.clone() * &Self::from_f64(SIN_Q[quadrant]);
+        // r (c + i s)·i^q: one of rc, rs is ±0, so each coordinate is one
+        // rounded product (only the sign of a zero coordinate may differ
+        // from a rotation by swaps and negations).
+        reduced.rotate_quarter_turns(&rc, &rs, half_pi)
+    }
     /// Tangent.
     fn tan(&self) -> Self;
     /// Arcsine.

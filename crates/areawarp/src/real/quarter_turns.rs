@@ -65,6 +65,63 @@ pub(crate) fn rotate_f32(x: f32, a: f32, b: f32) -> (f32, f32) {
     ((a * c - b * s) as f32, (a * s + b * c) as f32)
 }
 
+/// [`SIN`] for the argument `w = x/4` (turns instead of quarter turns):
+/// `sin(2πw)/w` as a polynomial in `w²`, the coefficients multiplied by
+/// `4·16^k` (exact: powers of two).
+const SIN_W: [f64; 5] = [
+    SIN[0] * 4.0,
+    SIN[1] * 64.0,
+    SIN[2] * 1024.0,
+    SIN[3] * 16384.0,
+    SIN[4] * 262144.0,
+];
+/// [`COS`] for `w = x/4`: `cos(2πw)` as a polynomial in `w²`, the
+/// coefficients multiplied by `16^k` (exact).
+const COS_W: [f64; 5] = [
+    COS[0],
+    COS[1] * 16.0,
+    COS[2] * 256.0,
+    COS[3] * 4096.0,
+    COS[4] * 65536.0,
+];
+
+/// `(r cos 2πv, r sin 2πv)` for `v ∈ [0, 1]` ([`Real::polar_turns`]),
+/// the values of the generic route bit for bit, with fewer operations.
+///
+/// The generic route splits `4v` into the integer `q` nearest it and
+/// `x = 4v − q`; here `v + 1.5·2^21` rounds `v` to a multiple `q/4` of ¼
+/// (the spacing of `f32` in `[2^21, 2^22)`; the same rounding, ties to
+/// even included, as `4v + 1.5·2^23`, scaled by ¼), so that
+/// `w = v − q/4 = x/4` is exact without the product `4v`, and the
+/// quadrant `q mod 4` is in the same low bits. The kernels of
+/// [`sin_cos_quarter_turns_f32`] are evaluated in `w` with coefficients
+/// scaled by powers of two ([`SIN_W`], [`COS_W`]): every intermediate is
+/// the generic one times a power of two (no underflow: `w² ≥ 2^-300`
+/// unless `w = 0`), so the sine and cosine are the same `f64` values.
+/// `r·cos(qπ/2)` and `r·sin(qπ/2)` (exact) are formed in `f64` from an
+/// `f64` table, not converted to `f32` and back, and the point is rotated
+/// and rounded to `f32` once per coordinate as in [`rotate_f32`]. NaN `v`
+/// gives NaN coordinates.
+///
+/// [`Real::polar_turns`]: super::Real::polar_turns
+#[inline(always)]
+pub(crate) fn polar_turns_f32(v: f32, r: f32) -> (f32, f32) {
+    /// `(cos(qπ/2), sin(qπ/2))` by `q mod 4`.
+    const CS_Q: [[f64; 2]; 4] = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+    // 1.5·2^21.
+    let rounder = (3u32 << 20) as f32;
+    let shifted = v + rounder;
+    let [cq, sq] = CS_Q[(shifted.to_bits() & 3) as usize];
+    let w = (v - (shifted - rounder)) as f64;
+    let y = w * w;
+    let y2 = y * y;
+    let s = (SIN_W[0] + SIN_W[1] * y) + y2 * ((SIN_W[2] + SIN_W[3] * y) + y2 * SIN_W[4]);
+    let c = (COS_W[0] + COS_W[1] * y) + y2 * ((COS_W[2] + COS_W[3] * y) + y2 * COS_W[4]);
+    let s = s * w;
+    let (a, b) = (r as f64 * cq, r as f64 * sq);
+    ((a * c - b * s) as f32, (a * s + b * c) as f32)
+}
+
 /// π/2 rounded to 24 bits (`f32`'s π/2): `xh·SIN64_HI` is exact for a
 /// 26-bit `xh`.
 const SIN64_HI: f64 = 1.5707963705062866;
@@ -184,6 +241,48 @@ mod tests {
         let (s, c) = sweep(1);
         println!("all f32 in [0, 1/2]: sin {s} ulps, cos {c} ulps");
         assert!(s <= 0.5 + 1.0 / 256.0 && c <= 0.5 + 1.0 / 256.0, "{s} {c}");
+    }
+
+    /// The generic route of `Real::polar_turns` for `f32`: `4v` split by
+    /// `split_quarter_turns`, `r` times the quadrant's cosine and sine in
+    /// `f32`, rotated by [`rotate_f32`].
+    fn polar_generic(v: f32, r: f32) -> (f32, f32) {
+        use crate::real::Real;
+        const COS_Q: [f32; 4] = [1.0, 0.0, -1.0, 0.0];
+        const SIN_Q: [f32; 4] = [0.0, 1.0, 0.0, -1.0];
+        let four_v = v * 4.0;
+        let (q, quadrant) = four_v.split_quarter_turns();
+        rotate_f32(four_v - q, r * COS_Q[quadrant], r * SIN_Q[quadrant])
+    }
+
+    /// Every `step`-th `f32` in `[0, 1]` (and 1): [`polar_turns_f32`]
+    /// returns the generic route's bits (radii 1 and 0.7).
+    fn polar_matches_generic(step: usize) {
+        for bits in (0..=1f32.to_bits()).step_by(step).chain([1f32.to_bits()]) {
+            let v = f32::from_bits(bits);
+            for r in [1.0f32, 0.7] {
+                let (x, y) = polar_turns_f32(v, r);
+                let (gx, gy) = polar_generic(v, r);
+                assert!(
+                    x.to_bits() == gx.to_bits() && y.to_bits() == gy.to_bits(),
+                    "v = {v:e}, r = {r}: ({x:e}, {y:e}) vs ({gx:e}, {gy:e})"
+                );
+            }
+        }
+        assert!(polar_turns_f32(f32::NAN, 1.0).0.is_nan());
+    }
+
+    #[test]
+    fn polar_turns_f32_is_the_generic_route() {
+        polar_matches_generic(4099);
+    }
+
+    /// Every `f32` in `[0, 1]` (about 10⁹; a minute in release):
+    /// `cargo test --release -p areawarp --lib polar_turns_f32_all -- --ignored`.
+    #[test]
+    #[ignore]
+    fn polar_turns_f32_all_is_the_generic_route() {
+        polar_matches_generic(1);
     }
 
     /// The `f64` kernel against 256 bits on 200 000 random reduced

@@ -62,17 +62,19 @@ fn anchored<T: Real>(v: &Vec3<T>, w1: &T, e1: &Vec3<T>, w2: &T, e2: &Vec3<T>) ->
 /// `|ψ_u × ψ_v| = area` on the whole open square (`measure() = area`).
 ///
 /// # Evaluation
-/// With barycentric weights λ_A = 1 − s, λ_B = s(1 − t), λ_C = s·t
-/// (`s = √u`, `t = v`), the point is computed from an anchor vertex V_k as
-/// `V_k + (λ_i·(V_i − V_k) + λ_j·(V_j − V_k))`, the edge vectors being
-/// precomputed: V_k = A for u < 1, and B (v ≤ ½) or C on the side u = 1.
-/// A weight that is zero in exact arithmetic is exactly zero in floating
-/// point (at u = 0, v ∈ {0, 1} and u = 1), so the three vertices are
-/// reproduced exactly and every side of the square maps onto the
-/// corresponding edge (a two-point interpolation); the absolute error is at
-/// most ½ ulp of the result plus a few units of roundoff times the longest
-/// edge (measured: ≤ 3.3 u·extent). The anchor depends on `u = 1` only, a
-/// branch that random samples never mispredict. See `docs/planar-triangle.md`.
+/// With `s = √u`, `t = v` and the edge vectors precomputed, a point with
+/// u < 1 is `A + s·((1 − t)(B − A) + t·(C − A))`: the two products with
+/// the edges are formed while the square root runs, and two operations
+/// follow it. On the side u = 1 the point is anchored at B (v ≤ ½) or C,
+/// `V_k + (λ_i·(V_i − V_k) + λ_j·(V_j − V_k))` with the barycentric weights
+/// λ_A = 1 − s, λ_B = s(1 − t), λ_C = s·t. A factor that is zero in exact
+/// arithmetic is exactly zero in floating point (s at u = 0, 1 − t or t at
+/// v ∈ {0, 1}, λ_A at u = 1), so the three vertices are reproduced exactly
+/// and every side of the square maps onto the corresponding edge (a
+/// two-point interpolation); the absolute error is at most ½ ulp of the
+/// result plus a few units of roundoff times the longest edge (measured:
+/// ≤ 3.6 u·extent). The branch depends on `u = 1` only, which random
+/// samples never mispredict. See `docs/planar-triangle.md`.
 ///
 /// # Non-degeneracy
 /// [`PlanarTriangle::new`] rejects triangles whose largest interior angle θ
@@ -332,27 +334,30 @@ impl<T: Real> PlanarTriangle<T> {
 impl<T: Real> Warp<T> for PlanarTriangle<T> {
     type Point = Vec3<T>;
 
-    /// ψ(u, v) of eq. (1.20), evaluated from the vertex of largest
-    /// barycentric weight (see the type's docs). `u` and `v` are clamped to
-    /// `[0, 1]` (NaN counts as 0).
+    /// ψ(u, v) of eq. (1.20), evaluated as the type's docs describe. `u`
+    /// and `v` are clamped to `[0, 1]` (NaN counts as 0).
     #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         if self.variant == PlanarTriangleVariant::Fold {
             return fold::map(self, u, v);
         }
-        let u = clamp01(u);
+        // NaN u counts as 0; u ≥ 1 goes to the side u = 1 below.
+        let u = u.max(&T::zero());
         let t = clamp01(v);
-        // Anchored at A except on the side u = 1 (the edge BC), where the
-        // anchor is B or C: then A, B, C and the three edges are exact.
-        let on_bc = u >= T::one();
-        let s = u.sqrt();
+        if u < T::one() {
+            // A + s·((1 − t)(B − A) + t (C − A)); the products with the
+            // edges do not wait for the square root.
+            let w = self.e_ab.scale(&(T::one() - &t)).sub(&self.e_ca.scale(&t));
+            return self.a.add(&w.scale(&u.sqrt()));
+        }
+        // The side u = 1 (the edge BC), anchored at B or C: then B, C and
+        // the edge BC are exact. The weights are formed from s = √u as in
+        // the interior (the same polynomial: exact derivatives for duals).
+        let s = u.min(&T::one()).sqrt();
         let la = T::one() - &s;
         let lb = s.clone() * &(T::one() - &t);
         let lc = s * &t;
-        if !on_bc {
-            // A + λ_B (B − A) + λ_C (C − A)
-            anchored(&self.a, &lb, &self.e_ab, &lc, &self.e_ca)
-        } else if t <= T::from_ratio(1, 2) {
+        if t <= T::from_ratio(1, 2) {
             // B + λ_C (C − B) + λ_A (A − B)
             anchored(&self.b, &lc, &self.e_bc, &la, &self.e_ab)
         } else {

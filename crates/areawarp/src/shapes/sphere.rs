@@ -293,10 +293,14 @@ impl<T: Real> Warp<T> for Sphere<T> {
     #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let u = clamp_unit(u);
-        let one = T::one();
         let two = T::from_i64(2);
-        let z = one.clone() - &(u.clone() * &two);
-        let sin_theta = (u.clone() * &(one - &u)).sqrt() * &two;
+        let two_u = u * &two;
+        let z = T::one() - &two_u;
+        // 2√(u(1 − u)) as √(2u(2 − 2u)): the same bits (scalings by 2 and
+        // 4 commute with rounding and with the square root; for a
+        // subnormal u the product is exact), sharing 2u with z and without
+        // a product after the root.
+        let sin_theta = (two_u.clone() * &(two - &two_u)).sqrt();
         let (x, y) = polar_turns(&sin_theta, &clamp_unit(v), &self.half_pi);
         let local = Vec3::new(x, y, z);
         match &self.frame {

@@ -37,23 +37,12 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
 /// the same roundings as `r` times its result: `r` enters through the exact
 /// products `r·cos(qπ/2)`, `r·sin(qπ/2)` (values in `{0, ±r}`), which
 /// [`Real::rotate_quarter_turns`] then rotates by the reduced angle, so that
-/// the point costs two products fewer.
+/// the point costs two products fewer. The steps are [`Real::polar_turns`]'s
+/// default; `f32` overrides it with the same values computed in `f64`
+/// with fewer operations (`docs/quarter-turns.md`).
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
-    // cos(qπ/2) and sin(qπ/2) by q mod 4.
-    const COS_Q: [f64; 4] = [1.0, 0.0, -1.0, 0.0];
-    const SIN_Q: [f64; 4] = [0.0, 1.0, 0.0, -1.0];
-    let four_v = v.clone() * &T::from_i64(4);
-    let (q, quadrant) = four_v.split_quarter_turns();
-    let reduced = four_v - &q;
-    // r·i^q: exact.
-    let rc = r.clone() * &T::from_f64(COS_Q[quadrant]);
-    let rs = r.clone() * &T::from_f64(SIN_Q[quadrant]);
-    // r (c + i s)·i^q: one of rc, rs is ±0, so each coordinate is one
-    // rounded product (only the sign of a zero coordinate may differ from a
-    // rotation by swaps and negations); for f32 one rounding from f64 of
-    // the polynomial kernel (`Real::rotate_quarter_turns`).
-    reduced.rotate_quarter_turns(&rc, &rs, half_pi)
+    v.polar_turns(r, half_pi)
 }
 
 /// The azimuth of `(x, y)` in turns, in `[0, 1)`: `atan2(y, x) / 2π`, shifted
