@@ -282,7 +282,7 @@ struct Scalars<T> {
 impl<T: Real> Scalars<T> {
     #[inline(always)]
     fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
-        let (omega, inv_omega) = build::omega_in::<T>(&core.omega)?;
+        let (omega, inv_omega) = build::omega_in::<T>(&core.v.omega)?;
         let d = T::narrow(&core.d);
         if !positive(&d) {
             return Err(out_of_range());
@@ -291,7 +291,7 @@ impl<T: Real> Scalars<T> {
         Ok(Scalars {
             omega,
             inv_omega,
-            half_omega: T::narrow(&(core.omega.clone() / &two)),
+            half_omega: T::narrow(&(core.v.omega.clone() / &two)),
             d,
         })
     }
@@ -346,9 +346,9 @@ impl<T: Real> SphericalTriangle<T> {
             core.anchor(true)?.narrow::<T>().ok_or_else(out_of_range)?,
             core.anchor(false)?.narrow::<T>().ok_or_else(out_of_range)?,
         ];
-        let a = narrow3::<T>(&core.a);
-        let b = narrow3::<T>(&core.b);
-        let c = narrow3::<T>(&core.c);
+        let a = narrow3::<T>(&core.v.a);
+        let b = narrow3::<T>(&core.v.b);
+        let c = narrow3::<T>(&core.v.c);
         let literal = match variant {
             SphericalTriangleVariant::Literal => Some(Literal::new(&a, &b, &c)),
             SphericalTriangleVariant::Robust => None,
@@ -362,14 +362,15 @@ impl<T: Real> SphericalTriangle<T> {
             omega,
             inv_omega,
             d,
-            k1a: T::narrow(&core.k1a),
+            k1a: T::narrow(&core.v.k1a),
             ka: T::narrow(&core.ka),
-            a_minus_b: narrow3::<T>(&core.ab.neg()),
-            // A + B and |A + C|² as the validation formed them.
-            a_plus_b: narrow3::<T>(&core.at_b[0].1),
+            a_minus_b: narrow3::<T>(&core.v.ab.neg()),
+            // A + B as the validation formed it.
+            a_plus_b: narrow3::<T>(&core.v.at_b[0].1),
             c_perp: narrow3::<T>(&core.c_perp),
             anchors,
-            one_plus_cos_b: T::narrow(&(core.p_ca.clone() / &two)),
+            // 1 + cos b = |A + C|²/2, from the validation's |A + C|².
+            one_plus_cos_b: T::narrow(&(core.v.p_ca.clone() / &two)),
             sin_b: T::narrow(&core.sin_b),
             normals: OnceLock::new(),
             wide: OnceLock::new(),
@@ -510,7 +511,7 @@ impl<T: Real> SphericalTriangle<T> {
             .anchor(robust::uses_anchor_a(&clamp_unit(u)))?
             .narrow::<T>()
             .ok_or_else(out_of_range)?;
-        let b = narrow3::<T>(&core.b);
+        let b = narrow3::<T>(&core.v.b);
         let b_norm2 = build::norm2(&b);
         Ok((
             robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v),

@@ -90,19 +90,8 @@ fn antipodal_limit<W: Real>() -> W {
 /// arc AC and the constants shared by the map, the inverse and the recipe.
 #[derive(Clone, Debug)]
 pub(super) struct Core<W> {
-    pub a: Vec3<W>,
-    pub b: Vec3<W>,
-    pub c: Vec3<W>,
-    /// B − A, C − B, A − C.
-    pub ab: Vec3<W>,
-    pub bc: Vec3<W>,
-    pub ca: Vec3<W>,
-    /// C + A, |A − C|² and |A + C|² (for the tangents of the arc AC).
-    pub s_ca: Vec3<W>,
-    pub q_ca: W,
-    pub p_ca: W,
-    /// The chords at B: `(|V − B|², V + B, |V + B|²)` for V = A and V = C.
-    pub at_b: [(W, Vec3<W>, W); 2],
+    /// The unit vertices, chords and Ω of the validation.
+    pub v: Validated<W>,
     /// det(A, B, C) > 0.
     pub ccw: bool,
     /// ±1: the sign of det(A, B, C).
@@ -115,31 +104,29 @@ pub(super) struct Core<W> {
     /// (one rounding).
     pub d: W,
     pub inv_d: W,
-    /// `1 + cos c = |A + B|²/2`, `sin c cos α = (B − A)·[C|A]`.
-    pub k1a: W,
+    /// `sin c cos α = (B − A)·[C|A]`.
     pub ka: W,
-    /// Ω (Van Oosterom–Strackee).
-    pub omega: W,
 }
 
 /// The triangle validated, with its solid angle: what
 /// [`SphericalTriangle::solid_angle_of`](super::SphericalTriangle::solid_angle_of)
 /// needs, and the first half of [`Core::new`].
+#[derive(Clone, Debug)]
 pub(super) struct Validated<W> {
-    a: Vec3<W>,
-    b: Vec3<W>,
-    c: Vec3<W>,
-    ab: Vec3<W>,
-    bc: Vec3<W>,
-    ca: Vec3<W>,
-    s_ca: Vec3<W>,
-    q_ca: W,
-    p_ca: W,
+    pub a: Vec3<W>,
+    pub b: Vec3<W>,
+    pub c: Vec3<W>,
+    pub ab: Vec3<W>,
+    pub bc: Vec3<W>,
+    pub ca: Vec3<W>,
+    pub s_ca: Vec3<W>,
+    pub q_ca: W,
+    pub p_ca: W,
     /// `(|A − B|², A + B, |A + B|²)` and `(|C − B|², C + B, |C + B|²)`.
-    at_b: [(W, Vec3<W>, W); 2],
-    k1a: W,
+    pub at_b: [(W, Vec3<W>, W); 2],
+    pub k1a: W,
     /// det(A, B, C) (its sign the orientation, its magnitude d's numerator).
-    det: W,
+    pub det: W,
     /// Ω (Van Oosterom–Strackee).
     pub omega: W,
 }
@@ -240,54 +227,29 @@ impl<W: Real> Core<W> {
     /// the shared constants.
     #[inline(always)]
     pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
-        let Validated {
-            a,
-            b,
-            c,
-            ab,
-            bc,
-            ca,
-            s_ca,
-            q_ca,
-            p_ca,
-            at_b,
-            k1a,
-            det,
-            omega,
-        } = Validated::new(a, b, c)?;
-        let ccw = det > W::zero();
-        let abs_det = det.abs();
+        let v = Validated::new(a, b, c)?;
+        let ccw = v.det > W::zero();
+        let abs_det = v.det.abs();
         let (c_perp, sin_b, inv_sin_b) =
-            tangent(&a, (&ca.neg(), &q_ca), (&s_ca, &p_ca)).ok_or(reject::ANTIPODAL)?;
+            tangent(&v.a, (&v.ca.neg(), &v.q_ca), (&v.s_ca, &v.p_ca)).ok_or(reject::ANTIPODAL)?;
         // d by the normalization's reciprocal; 1/d by its own division,
         // which runs beside the tangent's (no division waits on another).
         let d = abs_det.clone() * &inv_sin_b;
         let inv_d = sin_b.clone() / &abs_det;
-        let ka = ab.dot(&c_perp);
+        let ka = v.ab.dot(&c_perp);
         if !positive(&d) || !d.is_finite() {
             return Err(reject::UNDERFLOW);
         }
         let sign = if ccw { W::one() } else { -W::one() };
         Ok(Core {
-            a,
-            b,
-            c,
-            ab,
-            bc,
-            ca,
-            s_ca,
-            q_ca,
-            p_ca,
-            at_b,
+            v,
             ccw,
             sign,
             c_perp,
             sin_b,
             d,
             inv_d,
-            k1a,
             ka,
-            omega,
         })
     }
 
@@ -296,23 +258,27 @@ impl<W: Real> Core<W> {
     pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
         if from_a {
             // A − B = −(B − A) exactly.
-            let minus = self.ab.neg();
+            let minus = self.v.ab.neg();
             Anchor::new(
-                &self.a,
+                &self.v.a,
                 &self.c_perp,
-                &self.b,
-                (&minus, &self.at_b[0]),
+                &self.v.b,
+                (&minus, &self.v.at_b[0]),
                 &self.inv_d,
                 &self.sign,
             )
         } else {
-            let (along, _, _) = tangent(&self.c, (&self.ca, &self.q_ca), (&self.s_ca, &self.p_ca))
-                .ok_or(reject::ANTIPODAL)?;
+            let (along, _, _) = tangent(
+                &self.v.c,
+                (&self.v.ca, &self.v.q_ca),
+                (&self.v.s_ca, &self.v.p_ca),
+            )
+            .ok_or(reject::ANTIPODAL)?;
             Anchor::new(
-                &self.c,
+                &self.v.c,
                 &along,
-                &self.b,
-                (&self.bc, &self.at_b[1]),
+                &self.v.b,
+                (&self.v.bc, &self.v.at_b[1]),
                 &self.inv_d,
                 &-self.sign.clone(),
             )
@@ -325,9 +291,9 @@ impl<W: Real> Core<W> {
             unit_vector(&v.cross(e).scale(&self.sign)).ok_or(reject::ON_CIRCLE)
         };
         Ok([
-            inward(&self.a, &self.ab)?,
-            inward(&self.b, &self.bc)?,
-            inward(&self.c, &self.ca)?,
+            inward(&self.v.a, &self.v.ab)?,
+            inward(&self.v.b, &self.v.bc)?,
+            inward(&self.v.c, &self.v.ca)?,
         ])
     }
 }
