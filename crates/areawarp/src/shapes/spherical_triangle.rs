@@ -27,7 +27,7 @@ use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
-use build::{Anchor, Core};
+use build::{Anchor, Core, Scalars};
 use literal::Literal;
 use std::sync::{Arc, OnceLock};
 
@@ -267,34 +267,6 @@ type PointsCore<T> = ([Vec3<T>; 3], Core<<T as Real>::Wide>);
 /// The reason a triangle is rejected.
 fn out_of_range() -> WarpError {
     build::reject::OUT_OF_RANGE
-}
-
-/// The scalars of the map rounded to `T` (Ω, 1/Ω, Ω/2, d), shared by the
-/// constructor and the one-shot sample; `Unrepresentable` if `T` cannot
-/// hold them.
-struct Scalars<T> {
-    omega: T,
-    inv_omega: T,
-    half_omega: T,
-    d: T,
-}
-
-impl<T: Real> Scalars<T> {
-    #[inline(always)]
-    fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
-        let (omega, inv_omega) = build::omega_in::<T>(&core.v.omega)?;
-        let d = T::narrow(&core.d);
-        if !positive(&d) {
-            return Err(out_of_range());
-        }
-        let two = <T::Wide as Real>::from_i64(2);
-        Ok(Scalars {
-            omega,
-            inv_omega,
-            half_omega: T::narrow(&(core.v.omega.clone() / &two)),
-            d,
-        })
-    }
 }
 
 impl<T: Real> SphericalTriangle<T> {

@@ -384,6 +384,34 @@ impl<W: Real> Anchor<W> {
     }
 }
 
+/// The scalars of the map rounded to `T` (Ω, 1/Ω, Ω/2, d), shared by the
+/// constructor and the one-shot sample; `Unrepresentable` if `T` cannot
+/// hold them.
+pub(super) struct Scalars<T> {
+    pub omega: T,
+    pub inv_omega: T,
+    pub half_omega: T,
+    pub d: T,
+}
+
+impl<T: Real> Scalars<T> {
+    #[inline(always)]
+    pub fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
+        let (omega, inv_omega) = omega_in::<T>(&core.v.omega)?;
+        let d = T::narrow(&core.d);
+        if !positive(&d) {
+            return Err(reject::OUT_OF_RANGE);
+        }
+        let two = <T::Wide as Real>::from_i64(2);
+        Ok(Scalars {
+            omega,
+            inv_omega,
+            half_omega: T::narrow(&(core.v.omega.clone() / &two)),
+            d,
+        })
+    }
+}
+
 /// The solid angle Ω (`wide`, computed in `T::Wide`) and density 1/Ω
 /// rounded to `T`, or the reason `T` cannot hold them.
 #[inline(always)]
