@@ -495,14 +495,7 @@ impl Measurement {
             return (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
         }
         x.sort_by(f64::total_cmp);
-        let k = x.len();
-        let median = if k % 2 == 1 {
-            x[k / 2]
-        } else {
-            (x[k / 2 - 1] + x[k / 2]) / 2.0
-        };
-        let (j, coverage) = order_statistic_interval(k);
-        (median, x[j - 1], x[k - j], coverage)
+        median_and_interval(&x)
     }
 
     /// The number of receivers at which method `m` failed at least once.
@@ -516,6 +509,20 @@ impl Measurement {
         let a = self.acc(s, m, p, l, None);
         a.rel2 / a.n as f64
     }
+}
+
+/// The median of the sorted, non-empty `x` and its distribution-free
+/// interval by order statistics ([`order_statistic_interval`]):
+/// `(median, low, high, coverage)`.
+pub fn median_and_interval(x: &[f64]) -> (f64, f64, f64, f64) {
+    let k = x.len();
+    let median = if k % 2 == 1 {
+        x[k / 2]
+    } else {
+        (x[k / 2 - 1] + x[k / 2]) / 2.0
+    };
+    let (j, coverage) = order_statistic_interval(k);
+    (median, x[j - 1], x[k - j], coverage)
 }
 
 /// For `k` samples: the largest `j ≥ 1` with `P(x₍ⱼ₎ ≤ median ≤

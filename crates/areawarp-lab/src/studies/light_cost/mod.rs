@@ -28,7 +28,7 @@
 
 use super::speed::Timing;
 use super::variance::{Claim, ExtraSection, OccluderRow, Sampler, VarianceConfig, Verdict};
-use crate::estimator::order_statistic_interval;
+use crate::estimator::median_and_interval;
 use crate::scene::{PlanarPolygon, Quantity, Receiver, Scene, setup};
 use crate::timing::thread_cpu_ns;
 use areawarp::error::WarpError;
@@ -119,7 +119,7 @@ pub struct LightCostRow {
     pub ratio: Vec<f64>,
     /// The distribution-free interval of each median in [`Self::ratio`]
     /// (order statistics, coverage ≥ 95% for 9 or more runs:
-    /// [`order_statistic_interval`]).
+    /// [`median_and_interval`]).
     pub ratio_interval: Vec<(f64, f64)>,
     /// The same for construction.
     pub construction_ratio: f64,
@@ -227,37 +227,29 @@ pub fn run(config: &LightCostConfig) -> Result<LightCost, WarpError> {
             }
         }
     }
-    let median = |mut x: Vec<f64>| {
-        x.sort_by(f64::total_cmp);
-        let n = x.len();
-        if n % 2 == 1 {
-            x[n / 2]
-        } else {
-            (x[n / 2 - 1] + x[n / 2]) / 2.0
-        }
-    };
-    let ratio_of = |a: &[f64], b: &[f64]| median(a.iter().zip(b).map(|(a, b)| a / b).collect());
-    let interval_of = |a: &[f64], b: &[f64]| {
+    // The median over runs of the per-run ratios, and its interval.
+    let ratio_of = |a: &[f64], b: &[f64]| {
         let mut x: Vec<f64> = a.iter().zip(b).map(|(a, b)| a / b).collect();
         x.sort_by(f64::total_cmp);
-        let (j, _) = order_statistic_interval(x.len());
-        (x[j - 1], x[x.len() - j])
+        let (median, low, high, _) = median_and_interval(&x);
+        (median, (low, high))
     };
     let rows = (0..ns)
-        .map(|si| LightCostRow {
-            sampler: config.samplers[si],
-            per_sample: times[si]
-                .iter()
-                .map(|t| Timing::of(t.clone(), config.batch * receivers.len()))
-                .collect(),
-            construction: Timing::of(construction[si].clone(), receivers.len()),
-            ratio: (0..WORKLOADS.len())
+        .map(|si| {
+            let (ratio, ratio_interval) = (0..WORKLOADS.len())
                 .map(|k| ratio_of(&times[si][k], &times[0][k]))
-                .collect(),
-            ratio_interval: (0..WORKLOADS.len())
-                .map(|k| interval_of(&times[si][k], &times[0][k]))
-                .collect(),
-            construction_ratio: ratio_of(&construction[si], &construction[0]),
+                .unzip();
+            LightCostRow {
+                sampler: config.samplers[si],
+                per_sample: times[si]
+                    .iter()
+                    .map(|t| Timing::of(t.clone(), config.batch * receivers.len()))
+                    .collect(),
+                construction: Timing::of(construction[si].clone(), receivers.len()),
+                ratio,
+                ratio_interval,
+                construction_ratio: ratio_of(&construction[si], &construction[0]).0,
+            }
         })
         .collect();
     Ok(LightCost {
