@@ -363,8 +363,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
     // Arcs along meridians (n_z = 0, including those through the pole)
     // sweep no azimuth and bound no projected area. The others, with the
     // azimuths of their ends (once per point: an arc that starts where the
-    // previous one ends, cyclically, reuses its azimuth), in one vector (a single allocation; the meridian indices of the ends
-    // are filled in below).
+    // previous one ends, cyclically, reuses its azimuth), in one vector
+    // (a single allocation; the meridian indices of the ends are filled in
+    // below).
     let mut usable: Vec<UsableArc<'_, T>> = Vec::with_capacity(arcs.len());
     for (index, a) in arcs
         .iter()

@@ -6,10 +6,10 @@
 //! exactly the same (cross product exactly zero and dot product positive,
 //! decided on the input values), or when their unit vectors do not resolve
 //! them (the cross product of the unit vectors rounds to zero, dot product
-//! positive). The constructor's pass over the edges computes the cross
-//! product of consecutive unit vertices anyway; only where it is within
-//! rounding of zero (`close`, 64 units of roundoff of the input type) is
-//! any further work done ([`drop_coincident`], out of line). Derivation and
+//! positive). [`distinct`] computes the cross product of consecutive unit
+//! vertices (one per edge); only where it is within rounding of zero
+//! (`close`, 64 units of roundoff of the input type) is any further work
+//! done ([`drop_coincident`], out of line). Derivation and
 //! the fuzz counts: `docs/projected-polygon.md`, "Repeated vertices".
 
 use super::build::{degenerate, next};

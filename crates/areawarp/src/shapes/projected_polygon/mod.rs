@@ -99,7 +99,8 @@ pub enum MarginalInversion {
 /// A vertex whose direction coincides with its predecessor's (the same
 /// input direction, decided exactly, or not resolved by unit vectors) is
 /// dropped: a quad with a repeated corner is the triangle. The shape keeps
-/// its input verbatim ([`WarpFamily::at`](crate::warp::WarpFamily::at), [`LightWarp::sample_light`](crate::warp::LightWarp::sample_light)'s
+/// its input verbatim ([`WarpFamily::at`](crate::warp::WarpFamily::at),
+/// [`LightWarp::sample_light`](crate::warp::LightWarp::sample_light)'s
 /// plane); see `docs/projected-polygon.md`, "Repeated vertices".
 ///
 /// # Checked in the constructor
@@ -430,8 +431,13 @@ impl<T: Real> ProjectedPolygon<T> {
     /// The largest number of edges crossing one lune (2 for a convex
     /// polygon off the pole, 1 around it): the per-sample cost factor.
     pub fn max_edges_per_lune(&self) -> usize {
-        let parts = self.parts();
-        parts.lunes.iter().map(|l| l.n_edges).max().unwrap_or(0)
+        // The counts are the same in the wide partition: no rounding to `T`
+        // for them.
+        match &self.stored {
+            Stored::Own(parts) => parts.lunes.iter().map(|l| l.n_edges).max(),
+            Stored::Wide(wide) => wide.lunes.iter().map(|l| l.n_edges).max(),
+        }
+        .unwrap_or(0)
     }
 
     /// The active lune that `u` falls in (its index among the lunes and its
@@ -564,13 +570,13 @@ impl<T: Real> ProjectedPolygon<T> {
     /// (radians, any turn: φ is reduced into `[φ₀, φ₀ + 2π)`, so that
     /// F(φ₀ + 2π) = F(φ₀) = 0), evaluated in closed form.
     pub fn marginal_cdf(&self, phi: &T) -> T {
-        let (l, p) = self.locate_azimuth(phi);
-        self.cdf_at(l, &p)
+        let parts = self.parts();
+        let (l, p) = self.locate_azimuth(parts, phi);
+        self.cdf_at(parts, l, &p)
     }
 
     /// F at the reduced azimuth `p` of lune `l`, evaluated from the nearer end.
-    fn cdf_at(&self, l: usize, p: &T) -> T {
-        let parts = self.parts();
+    fn cdf_at(&self, parts: &Parts<T>, l: usize, p: &T) -> T {
         let lune = &parts.lunes[l];
         let (zero, one) = (T::zero(), T::one());
         if lune.active.is_none() {
@@ -590,8 +596,7 @@ impl<T: Real> ProjectedPolygon<T> {
 
     /// The lune containing azimuth `phi` and `phi` reduced into
     /// `[φ₀, φ₀ + 2π)`.
-    fn locate_azimuth(&self, phi: &T) -> (usize, T) {
-        let parts = self.parts();
+    fn locate_azimuth(&self, parts: &Parts<T>, phi: &T) -> (usize, T) {
         let phi0 = &parts.lunes[0].start;
         let mut p = phi.clone();
         if !(p >= *phi0 && p < phi0.clone() + &self.two_pi) {
@@ -601,8 +606,7 @@ impl<T: Real> ProjectedPolygon<T> {
                 p = phi0.clone();
             }
         }
-        let l = self
-            .parts()
+        let l = parts
             .lunes
             .partition_point(|lune| lune.start <= p)
             .saturating_sub(1);
@@ -611,8 +615,7 @@ impl<T: Real> ProjectedPolygon<T> {
 
     /// The side nearer to the reduced azimuth `p` in lune `l`, and the side
     /// coordinate's `(cos x, sin x)`.
-    fn side_coordinates(&self, l: usize, p: &T) -> (Side, T, T) {
-        let parts = self.parts();
+    fn side_coordinates(parts: &Parts<T>, l: usize, p: &T) -> (Side, T, T) {
         let lune = &parts.lunes[l];
         let x = p.clone() - &lune.start;
         let (side, x) = if x.clone() * &T::from_i64(2) <= lune.width {
@@ -632,17 +635,16 @@ impl<T: Real> ProjectedPolygon<T> {
     }
 
     /// Whether the unit local direction `d` lies in the clipped polygon.
-    fn contains(&self, d: &Vec3<T>) -> bool {
-        let parts = self.parts();
+    fn contains(&self, parts: &Parts<T>, d: &Vec3<T>) -> bool {
         if d.z < T::zero() {
             return false;
         }
-        let (l, p) = self.locate_azimuth(&d.y.atan2(&d.x));
+        let (l, p) = self.locate_azimuth(parts, &d.y.atan2(&d.x));
         let lune = &parts.lunes[l];
         if lune.active.is_none() {
             return false;
         }
-        let (side, c, s) = self.side_coordinates(l, &p);
+        let (side, c, s) = Self::side_coordinates(parts, l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.square();
         lune.contains(&parts.edges, &parts.pairs, side, &c, &s, &r2, &z2)
@@ -711,11 +713,11 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     /// `(u, v) = (F(φ), G_φ(r²))`; `None` if `p` is not finite or lies
     /// farther than `2^(−p/2)` outside the polygon.
     fn inverse(&self, p: &Vec3<T>) -> Result<[T; 2], InverseError> {
-        let parts = self.parts();
         InverseError::check(self, p, &on_shape_tolerance::<T>())?;
         let refuse = || InverseError::refuse(self, p);
         let d = self.local(p).normalized().ok_or_else(refuse)?;
-        let (mut l, mut p) = self.locate_azimuth(&d.y.atan2(&d.x));
+        let parts = self.parts();
+        let (mut l, mut p) = self.locate_azimuth(parts, &d.y.atan2(&d.x));
         if parts.lunes[l].active.is_none() {
             // On a meridian bounding the polygon, within rounding: snap to
             // the nearer end of the neighbouring active lunes.
@@ -738,8 +740,8 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
                 p = parts.lunes[prev].end_az.clone();
             }
         }
-        let u = self.cdf_at(l, &p);
-        let (side, c, s) = self.side_coordinates(l, &p);
+        let u = self.cdf_at(parts, l, &p);
+        let (side, c, s) = Self::side_coordinates(parts, l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.max(&T::zero()).square();
         let v = parts.lunes[l].conditional_cdf(&parts.edges, &parts.pairs, side, &c, &s, &r2, &z2);
@@ -749,7 +751,6 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
     /// `| |p| − 1 |` plus, for a direction outside the clipped polygon, the
     /// Euclidean distance from `p/|p|` to its boundary.
     fn outside_by(&self, p: &Vec3<T>) -> T {
-        let parts = self.parts();
         if !p.is_finite() {
             return T::max_value();
         }
@@ -759,7 +760,8 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
             return T::one();
         };
         let radial = (n - &T::one()).abs();
-        if self.contains(&d) {
+        let parts = self.parts();
+        if self.contains(parts, &d) {
             return radial;
         }
         let mut best = T::max_value();

@@ -1,8 +1,8 @@
 //! The mixed-precision construction of a narrow scalar type (`f32`): the
 //! clipping, the lune partition and every per-edge and per-lune constant
 //! (except the clamping ranges, made lazily from the rounded constants:
-//! `ranges.rs`) are computed in the wide type (`f64`) from the unit vertices and then
-//! rounded to `T` for the per-sample path, as the spherical triangle and
+//! `ranges.rs`) are computed in the wide type (`f64`) from the unit
+//! vertices and then rounded to `T` for the per-sample path, as the spherical triangle and
 //! rectangle do. An `f32` polygon is thereby accepted when the `f64`
 //! constructor accepts the same values and no two consecutive unit
 //! vertices round together in `f32`; its constants are

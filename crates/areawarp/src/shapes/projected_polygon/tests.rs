@@ -140,6 +140,14 @@ fn finite_on_shape<T: Real>(name: &str, w: &ProjectedPolygon<T>) {
         let d = w.pdf(&p);
         assert!(d.is_finite() && d >= T::zero(), "{name}: pdf {d}");
     }
+    // Π as the constructor summed it (for f32 from the wide lunes,
+    // `narrow_measure`) is the sum the sampled parts accumulate: the same
+    // bits, which the cumulative areas of `select` rely on.
+    let mut lunes = w.parts().lunes.clone();
+    assert!(
+        build::accumulate(&mut lunes) == w.measure(),
+        "{name}: Π of the parts differs from the constructor's"
+    );
 }
 
 #[test]
