@@ -193,9 +193,9 @@ pub trait Real:
         (c.clone() * a - &(s.clone() * b), s * a + &(c * b))
     }
     /// `(r cos 2πv, r sin 2πv)` for `self = v ∈ [0, 1]` (an angle in turns),
-    /// reduced exactly by quarter turns (`shapes::turns::polar_turns`
-    /// documents the method): `q` and `q mod 4` from
-    /// [`Real::split_quarter_turns`] of `4v`, `r` times the exact cosine and
+    /// reduced exactly by quarter turns (`docs/quarter-turns.md`): `q` and
+    /// `q mod 4` from [`Real::split_quarter_turns`] of `4v` (`4v` and
+    /// `4v − q` are exact, the latter by Sterbenz's lemma), `r` times the exact cosine and
     /// sine of `qπ/2` (values in `{0, ±r}`), rotated by the reduced angle
     /// with [`Real::rotate_quarter_turns`]; `half_pi` is π/2 in this type.
     ///

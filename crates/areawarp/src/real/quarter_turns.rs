@@ -48,12 +48,27 @@ const COS: [f64; 5] = [
 /// roundoff). NaN gives NaN.
 #[inline(always)]
 pub(crate) fn sin_cos_quarter_turns_f32(x: f64) -> (f64, f64) {
+    sin_cos_poly(x, &SIN, &COS)
+}
+
+/// `(x·S(x²), C(x²))` for the five-term polynomials `sin`, `cos` in `x²`,
+/// by Estrin's scheme in `y²` (shorter dependency chains than Horner):
+/// the `f32` kernels, in quarter turns ([`SIN`], [`COS`]) or in turns
+/// ([`SIN_W`], [`COS_W`]), with the same operations in the same order.
+#[inline(always)]
+fn sin_cos_poly(x: f64, sin: &[f64; 5], cos: &[f64; 5]) -> (f64, f64) {
     let y = x * x;
-    // Estrin's scheme in y² (shorter dependency chains than Horner).
     let y2 = y * y;
-    let s = (SIN[0] + SIN[1] * y) + y2 * ((SIN[2] + SIN[3] * y) + y2 * SIN[4]);
-    let c = (COS[0] + COS[1] * y) + y2 * ((COS[2] + COS[3] * y) + y2 * COS[4]);
+    let s = (sin[0] + sin[1] * y) + y2 * ((sin[2] + sin[3] * y) + y2 * sin[4]);
+    let c = (cos[0] + cos[1] * y) + y2 * ((cos[2] + cos[3] * y) + y2 * cos[4]);
     (s * x, c)
+}
+
+/// `(a, b)` rotated by the angle of sine `s` and cosine `c` in `f64`, each
+/// coordinate rounded to `f32` once.
+#[inline(always)]
+fn rotate_rounded(s: f64, c: f64, a: f64, b: f64) -> (f32, f32) {
+    ((a * c - b * s) as f32, (a * s + b * c) as f32)
 }
 
 /// `(a, b)` rotated by `(π/2)·x`, `|x| ≤ 1/2`, each coordinate rounded to
@@ -61,8 +76,7 @@ pub(crate) fn sin_cos_quarter_turns_f32(x: f64) -> (f64, f64) {
 #[inline(always)]
 pub(crate) fn rotate_f32(x: f32, a: f32, b: f32) -> (f32, f32) {
     let (s, c) = sin_cos_quarter_turns_f32(x as f64);
-    let (a, b) = (a as f64, b as f64);
-    ((a * c - b * s) as f32, (a * s + b * c) as f32)
+    rotate_rounded(s, c, a as f64, b as f64)
 }
 
 /// [`SIN`] for the argument `w = x/4` (turns instead of quarter turns):
@@ -113,13 +127,8 @@ pub(crate) fn polar_turns_f32(v: f32, r: f32) -> (f32, f32) {
     let shifted = v + rounder;
     let [cq, sq] = CS_Q[(shifted.to_bits() & 3) as usize];
     let w = (v - (shifted - rounder)) as f64;
-    let y = w * w;
-    let y2 = y * y;
-    let s = (SIN_W[0] + SIN_W[1] * y) + y2 * ((SIN_W[2] + SIN_W[3] * y) + y2 * SIN_W[4]);
-    let c = (COS_W[0] + COS_W[1] * y) + y2 * ((COS_W[2] + COS_W[3] * y) + y2 * COS_W[4]);
-    let s = s * w;
-    let (a, b) = (r as f64 * cq, r as f64 * sq);
-    ((a * c - b * s) as f32, (a * s + b * c) as f32)
+    let (s, c) = sin_cos_poly(w, &SIN_W, &COS_W);
+    rotate_rounded(s, c, r as f64 * cq, r as f64 * sq)
 }
 
 /// π/2 rounded to 24 bits (`f32`'s π/2): `xh·SIN64_HI` is exact for a

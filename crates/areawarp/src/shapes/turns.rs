@@ -33,13 +33,10 @@ pub(crate) fn cos_sin_turns<T: Real>(v: &T, half_pi: &T) -> (T, T) {
     polar_turns(&T::one(), v, half_pi)
 }
 
-/// `(r cos 2πv, r sin 2πv)`, evaluated as [`cos_sin_turns`] describes, with
-/// the same roundings as `r` times its result: `r` enters through the exact
-/// products `r·cos(qπ/2)`, `r·sin(qπ/2)` (values in `{0, ±r}`), which
-/// [`Real::rotate_quarter_turns`] then rotates by the reduced angle, so that
-/// the point costs two products fewer. The steps are [`Real::polar_turns`]'s
-/// default; `f32` overrides it with the same values computed in `f64`
-/// with fewer operations (`docs/quarter-turns.md`).
+/// `(r cos 2πv, r sin 2πv)`: [`Real::polar_turns`] with the arguments in
+/// the maps' order, the steps [`cos_sin_turns`] describes with `r` entering
+/// through the exact products `r·cos(qπ/2)`, `r·sin(qπ/2)` (two products
+/// fewer than `r` times the unit point, the same roundings).
 #[inline]
 pub(crate) fn polar_turns<T: Real>(r: &T, v: &T, half_pi: &T) -> (T, T) {
     v.polar_turns(r, half_pi)
