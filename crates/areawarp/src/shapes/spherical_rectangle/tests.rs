@@ -720,8 +720,14 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
         } else {
             2f64.powi(-((next() * 33.0) as i32)) * (1.0 + 2.0 * next())
         };
+        // The corner cases alternate between the farthest point at (4, 4)
+        // (x0 = y0 = 2) and the square around the foot (x0 = y0 = −2).
         let (x0, y0) = if corner {
-            (-2.0, -2.0)
+            if i / 4 % 2 == 0 {
+                (2.0, 2.0)
+            } else {
+                (-2.0, -2.0)
+            }
         } else {
             (4.0 * next() - 2.0, 4.0 * next() - 2.0)
         };
