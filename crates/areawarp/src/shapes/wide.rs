@@ -1,5 +1,6 @@
-//! Moving vectors between a scalar `T` and its wide type [`Real::Wide`], and
-//! the cheap normalization the light shapes' constructors use.
+//! Moving vectors between a scalar `T` and its wide type [`Real::Wide`],
+//! and what the light shapes' constructors share around it: the finiteness
+//! check of their inputs and the cheap normalization.
 //!
 //! The spherical lights take every decision of their constructors (is the
 //! shape degenerate?) and compute every constant that cancellation would
@@ -30,6 +31,14 @@ pub(crate) fn check_finite<T: Real, const N: usize>(
         Some(&(_, what)) => Err(WarpError::NonFinite { what }),
         None => Ok(()),
     }
+}
+
+/// Whether the sum of squares `sum` is neither tiny (above `u⁴`) nor
+/// infinite, so that its square root needs no scaling: the fast path of
+/// [`unit_vector`] and of the rectangle's lengths and frame.
+#[inline(always)]
+pub(crate) fn plain_root_is_safe<T: Real>(sum: &T) -> bool {
+    *sum > T::unit_roundoff().powi(4) && sum.is_finite()
 }
 
 /// `v` in `T::Wide` (exact).
@@ -68,8 +77,7 @@ pub(crate) fn floor_log2(x: f64) -> i32 {
 #[inline]
 pub(crate) fn unit_vector<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
     let n2 = v.dot(v);
-    let tiny = T::unit_roundoff().powi(4);
-    if n2 > tiny && n2.is_finite() {
+    if plain_root_is_safe(&n2) {
         // One division: each component is then within 1.5 ulps (not exact
         // for an axis-aligned vector of non-power-of-two length).
         let inv = T::one() / &n2.sqrt();

@@ -6,7 +6,9 @@
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
-use crate::shapes::wide::{check_finite, floor_log2, narrow3, unit_vector, widen3};
+use crate::shapes::wide::{
+    check_finite, floor_log2, narrow3, plain_root_is_safe, unit_vector, widen3,
+};
 use crate::vector::Vec3;
 
 /// How far from perpendicular the edges may be, in units of roundoff of the
@@ -74,8 +76,7 @@ pub(super) struct WideFrame<W> {
 #[inline(always)]
 pub(super) fn length<T: Real>(v: &[T]) -> T {
     let sum = v.iter().fold(T::zero(), |acc, x| acc + &x.square());
-    let tiny = T::unit_roundoff().powi(4);
-    if sum > tiny && sum.is_finite() {
+    if plain_root_is_safe(&sum) {
         return sum.sqrt();
     }
     let m = v.iter().fold(T::zero(), |acc, x| acc.max(&x.abs()));
@@ -132,11 +133,9 @@ impl<T: Real> Frame<T> {
     /// division (the constructor's longest chain of dependent operations).
     #[inline(always)]
     fn direct(ex: &Vec3<T>, ey: &Vec3<T>, tol: &T) -> Option<Result<Self, WarpError>> {
-        let tiny = T::unit_roundoff().powi(4);
-        let safe = |x: &T| *x > tiny && x.is_finite();
         let lx2 = ex.dot(ex);
         let ey2 = ey.dot(ey);
-        if !safe(&lx2) || !safe(&ey2) {
+        if !plain_root_is_safe(&lx2) || !plain_root_is_safe(&ey2) {
             return None;
         }
         let ee = ex.dot(ey);
@@ -147,7 +146,7 @@ impl<T: Real> Frame<T> {
         }
         let ey_perp = ey.sub(&ex.scale(&(ee / &lx2)));
         let ly2 = ey_perp.dot(&ey_perp);
-        if !safe(&ly2) {
+        if !plain_root_is_safe(&ly2) {
             return None;
         }
         let ly_world = ly2.sqrt();
