@@ -74,6 +74,26 @@ pub(crate) fn twice_atan2_nonneg<T: Real>(y: &T, x: &T) -> T {
     half * &T::from_i64(2)
 }
 
+/// `atan2(y, x)` over the whole plane by libm's `atan` of the quotient:
+/// `atan(y/x)` when `x > 0` and the quotient is a normal number (one more
+/// rounding, the quotient's ½ ulp, not amplified: see
+/// [`twice_atan2_nonneg`]), `atan(y/x) ± π` (the sign of `y`, zeros
+/// included) when `x < 0` and the quotient is finite (|result| ≥ π/2, so
+/// the sum's rounding and π's are about one unit of the result), libm's
+/// `atan2` otherwise (a zero or subnormal quotient with `x > 0`, `x = 0`,
+/// infinities, NaN). About half the cost of `atan2` in glibc.
+#[inline(always)]
+pub(crate) fn atan2_by_atan<T: Real>(y: &T, x: &T) -> T {
+    let ratio = y.clone() / x;
+    if *x > T::zero() && ratio.abs() >= T::normal_floor() {
+        ratio.atan()
+    } else if *x < T::zero() && ratio.is_finite() {
+        ratio.atan() + &T::pi().copysign(y)
+    } else {
+        y.atan2(x)
+    }
+}
+
 /// `u` clamped to `[0, 1]`; NaN passes through unchanged (unlike
 /// [`Real::clamp`], which would hide it).
 #[inline]

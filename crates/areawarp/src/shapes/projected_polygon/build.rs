@@ -11,6 +11,7 @@ use crate::recipe::{Inverter, Newton};
 use crate::shapes::polygon_measures::{
     edge_cross, oriented_solid_angle_with_turning, rough_angle, turning_from_normals,
 };
+use crate::shapes::turns::atan2_by_atan;
 use crate::vector::Vec3;
 
 /// [`WarpError::Degenerate`] with the reason `what`.
@@ -336,7 +337,7 @@ struct UsableArc<'a, T> {
 /// angle (the fallback for a point within 10⁻⁶⁴-ish of the pole, where
 /// x² + y² could underflow).
 fn meridian<T: Real>(p: &Vec3<T>) -> (T, (T, T)) {
-    let az = p.y.atan2(&p.x);
+    let az = atan2_by_atan(&p.y, &p.x);
     let r2 = p.x.square() + &p.y.square();
     let cs = if r2 > T::unit_roundoff().powi(8) {
         let r = r2.sqrt();

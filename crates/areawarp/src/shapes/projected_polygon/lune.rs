@@ -19,6 +19,7 @@ use super::build::Arc;
 use super::ranges::{ArcEnd, EdgeRange};
 use crate::real::Real;
 use crate::recipe::Cdf1;
+use crate::shapes::turns::atan2_by_atan;
 use std::sync::OnceLock;
 
 /// The end of a lune that coordinates are measured from.
@@ -108,7 +109,7 @@ impl<T: Real> LuneEdge<T> {
         let e = &self.side[side as usize];
         let y = self.abs_nz.clone() * s;
         let x = self.nz2.clone() * c + &(e.g0.clone() * g);
-        y.atan2(&x)
+        atan2_by_atan(&y, &x)
     }
 }
 

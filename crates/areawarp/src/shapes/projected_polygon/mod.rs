@@ -24,6 +24,7 @@ use super::turns::{clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
+use crate::shapes::turns::atan2_by_atan;
 use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
@@ -639,7 +640,7 @@ impl<T: Real> ProjectedPolygon<T> {
         if d.z < T::zero() {
             return false;
         }
-        let (l, p) = self.locate_azimuth(parts, &d.y.atan2(&d.x));
+        let (l, p) = self.locate_azimuth(parts, &atan2_by_atan(&d.y, &d.x));
         let lune = &parts.lunes[l];
         if lune.active.is_none() {
             return false;
@@ -717,7 +718,7 @@ impl<T: Real> Warp<T> for ProjectedPolygon<T> {
         let refuse = || InverseError::refuse(self, p);
         let d = self.local(p).normalized().ok_or_else(refuse)?;
         let parts = self.parts();
-        let (mut l, mut p) = self.locate_azimuth(parts, &d.y.atan2(&d.x));
+        let (mut l, mut p) = self.locate_azimuth(parts, &atan2_by_atan(&d.y, &d.x));
         if parts.lunes[l].active.is_none() {
             // On a meridian bounding the polygon, within rounding: snap to
             // the nearer end of the neighbouring active lunes.
