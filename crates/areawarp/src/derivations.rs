@@ -17,6 +17,7 @@
 //! | [`spherical_triangle`] | The spherical triangle (Arvo 1995), literal and robust. |
 //! | [`spherical_rectangle`] | The spherical rectangle (Ureña, Fajardo and King 2013), literal and robust. |
 //! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
+//! | [`projected_polygon_cost`] | The projected polygon's construction cost, and the rounds of work on it. |
 //! | [`adaptive_triangle`] | Ureña's (2000) adaptive triangle sampler and its variance bound. |
 //! | [`precision_choice`] | The light shapes in `f32` (decisions in the wide type) and the precision chosen per shape from its conditioning. |
 //! | [`uniform_cone`] | The uniform cone (spherical cap). |
@@ -58,6 +59,9 @@ pub mod spherical_rectangle {}
 
 #[doc = include_str!("../docs/projected-polygon.md")]
 pub mod projected_polygon {}
+
+#[doc = include_str!("../docs/projected-polygon-cost.md")]
+pub mod projected_polygon_cost {}
 
 #[doc = include_str!("../docs/adaptive-triangle.md")]
 pub mod adaptive_triangle {}
