@@ -58,30 +58,29 @@ pub(crate) fn turns_of<T: Real>(y: &T, x: &T, inv_two_pi: &T) -> T {
 }
 
 /// `2·atan2(y, x)` for `y ≥ 0` (a solid angle from its half-angle
-/// tangent): as `2·atan(y/x)` when `x > 0` and the quotient is a normal
-/// number, `2·atan2(y, x)` otherwise. libm's `atan` plus the division costs
-/// about half of its `atan2`, for one more rounding (the quotient's, ½ ulp,
-/// not amplified: the relative condition number `t/((1 + t²)·atan t)` of
-/// atan is at most 1); a subnormal quotient would lose relative accuracy.
+/// tangent): by [`atan2_by_atan`] where `x > 0` (the half angle below
+/// π/2), by libm's `atan2` where `x ≤ 0`.
 #[inline(always)]
 pub(crate) fn twice_atan2_nonneg<T: Real>(y: &T, x: &T) -> T {
-    let ratio = y.clone() / x;
-    let half = if *x > T::zero() && ratio >= T::normal_floor() {
-        ratio.atan()
+    let half = if *x > T::zero() {
+        atan2_by_atan(y, x)
     } else {
         y.atan2(x)
     };
     half * &T::from_i64(2)
 }
 
-/// `atan2(y, x)` over the whole plane by libm's `atan` of the quotient:
-/// `atan(y/x)` when `x > 0` and the quotient is a normal number (one more
-/// rounding, the quotient's ½ ulp, not amplified: see
-/// [`twice_atan2_nonneg`]), `atan(y/x) ± π` (the sign of `y`, zeros
-/// included) when `x < 0` and the quotient is finite (|result| ≥ π/2, so
-/// the sum's rounding and π's are about one unit of the result), libm's
-/// `atan2` otherwise (a zero or subnormal quotient with `x > 0`, `x = 0`,
-/// infinities, NaN). About half the cost of `atan2` in glibc.
+/// `atan2(y, x)` over the whole plane by libm's `atan` of the quotient,
+/// which with the division costs about half of glibc's `atan2`:
+/// - `atan(y/x)` when `x > 0` and the quotient is a normal number: one
+///   more rounding, the quotient's ½ ulp, not amplified (the relative
+///   condition number `t/((1 + t²)·atan t)` of atan is at most 1);
+/// - `atan(y/x) ± π` (the sign of `y`, zeros included) when `x < 0` and the
+///   quotient is finite: |result| ≥ π/2, so the roundings of π and of the
+///   sum are about one unit of the result;
+/// - libm's `atan2` otherwise (a zero or subnormal quotient with `x > 0`,
+///   where the quotient would lose relative accuracy; `x = 0`;
+///   infinities; NaN).
 #[inline(always)]
 pub(crate) fn atan2_by_atan<T: Real>(y: &T, x: &T) -> T {
     let ratio = y.clone() / x;
