@@ -176,9 +176,10 @@ impl<W: Real> Validated<W> {
             (s_bc.clone(), p_bc.clone(), &a, 2)
         };
         let det = if q_sum < q1.clone() * q2 {
+            // (C + A)·(B × C) and (A + B)·(B × C) are det; for B + C the
+            // sum takes C's column.
             match pair {
-                0 => sum.dot(&b.cross(&c)),
-                1 => sum.dot(&b.cross(&c)),
+                0 | 1 => sum.dot(&b.cross(&c)),
                 _ => a.dot(&b.cross(&sum)),
             }
         } else if q_bc >= q_ab && q_bc >= q_ca {
