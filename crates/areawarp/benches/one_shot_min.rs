@@ -25,7 +25,7 @@
 //! one-shot ratio that a cheaper construction cannot remove.
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
-use areawarp::{LightWarp, Real, Vec3, Warp};
+use areawarp::{Real, Vec3};
 use std::hint::black_box;
 use std::time::Instant;
 
@@ -164,42 +164,50 @@ fn main() {
     solid_angles("triangle f64", reps, tri_omega, tri_book, &t64);
     solid_angles("rectangle f32", reps, rect_omega, rect_book, &r32);
     solid_angles("rectangle f64", reps, rect_omega, rect_book, &r64);
-    chained("triangle f32", reps, &triangle(&t32[0]), triangle_sample);
-    chained("triangle f64", reps, &triangle(&t64[0]), triangle_sample);
-    chained("rectangle f32", reps, &rectangle(&r32[0]), rectangle_sample);
-    chained("rectangle f64", reps, &rectangle(&r64[0]), rectangle_sample);
+    chained(
+        "triangle f32",
+        reps,
+        &triangle(&t32[0]),
+        triangle_per_sample,
+    );
+    chained(
+        "triangle f64",
+        reps,
+        &triangle(&t64[0]),
+        triangle_per_sample,
+    );
+    chained(
+        "rectangle f32",
+        reps,
+        &rectangle(&r32[0]),
+        rectangle_per_sample,
+    );
+    chained(
+        "rectangle f64",
+        reps,
+        &rectangle(&r64[0]),
+        rectangle_per_sample,
+    );
 }
 
-/// One sample of the prepared triangle, folded to a scalar.
-fn triangle_sample<T: Real>(t: &SphericalTriangle<T>, u: &T, v: &T) -> T {
-    let (p, pdf) = t.map_with_pdf(u, v);
-    data::fold(T::zero(), &p, &pdf)
-}
-
-/// One light sample of the prepared rectangle, folded to a scalar.
-fn rectangle_sample<T: Real>(r: &SphericalRectangle<T>, u: &T, v: &T) -> T {
-    let smp = r.sample_light([u.clone(), v.clone()]);
-    data::fold(T::zero(), &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
-}
-
-/// The batch of `sample` over `(u, v)` timed alternately as independent
-/// samples (throughput) and chained (latency: `u` of each sample is offset
-/// by zero times the previous result, which the compiler cannot fold away).
-fn chained<T: Real, S>(name: &str, reps: usize, light: &S, sample: impl Fn(&S, &T, &T) -> T) {
+/// `per_sample` (a batch function of the first part) over the batch, timed
+/// alternately as it is (independent samples: throughput) and chained, one
+/// sample at a time (latency: `u` of each sample is offset by zero times
+/// the previous result, which the compiler cannot fold away).
+fn chained<T: Real, S>(
+    name: &str,
+    reps: usize,
+    light: &S,
+    per_sample: impl Fn(&S, &[(T, T)]) -> T,
+) {
     let uv = batch::<T>();
     let zero = black_box(T::zero());
     let (free, chain) = min_times(
-        || {
-            uv.iter()
-                .fold(T::zero(), |acc, (u, v)| {
-                    acc + &sample(light, black_box(u), black_box(v))
-                })
-                .to_f64()
-        },
+        || per_sample(light, &uv).to_f64(),
         || {
             uv.iter()
                 .fold(T::zero(), |prev, (u, v)| {
-                    sample(light, &(u.clone() + &(prev * &zero)), v)
+                    per_sample(light, &[(u.clone() + &(prev * &zero), v.clone())])
                 })
                 .to_f64()
         },
