@@ -1,6 +1,8 @@
 //! Small numerical helpers shared by the spherical warps: the azimuth
 //! `φ = 2πv` evaluated without losing accuracy at the ends of `[0, 1]`, its
-//! inverse, and the tolerance used to decide that a point lies on a shape.
+//! inverse, `atan2` by libm's `atan` of the quotient ([`atan2_by_atan`],
+//! [`twice_atan2_nonneg`]), and the tolerance used to decide that a point
+//! lies on a shape.
 
 use crate::real::Real;
 
@@ -16,7 +18,8 @@ use crate::real::Real;
 /// only the reduced angle `(π/2)·r ∈ [−π/4, π/4]` goes through `sin_cos`;
 /// the quadrant `q mod 4` rotates the result exactly.
 ///
-/// Cost (see [`polar_turns`], which the maps call): `q` and `q mod 4` come
+/// Cost (see [`polar_turns`], which the maps call, and [`Real::polar_turns`],
+/// whose `f32` route does the same in `f64`): `q` and `q mod 4` come
 /// from [`Real::split_quarter_turns`] (a round-to-integer addition, no
 /// `floor` call), the rotation by the quadrant is a product with its exact
 /// cosine and sine, not a branch on the (random) quadrant, whose

@@ -33,8 +33,8 @@ use std::sync::OnceLock;
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
 /// only step of the map that is not exact).
 ///
-/// Each lune's inverse marginal F⁻¹ is approximated at construction by
-/// cubics through four points,
+/// Each lune's inverse marginal F⁻¹ is approximated, at the first sample
+/// that falls in the lune, by cubics through four points,
 /// [`FittedCubic`](crate::recipe::FittedCubic) (Arvo's Vandermonde cubic,
 /// eqs. 1.56–1.57): one per half of the lune (each half inverted from its
 /// own end), fitted in the variable (F/F_h)^(1/m) that removes the y^(1/m)
@@ -115,8 +115,10 @@ pub enum MarginalInversion {
 ///
 /// # Precision
 /// For `f32` (a scalar narrower than its `Real::Wide`), every decision and
-/// every constant of the constructor is computed in `f64` and rounded to
-/// `f32` (as for the spherical triangle and rectangle): an `f32` polygon is
+/// every constant of the partition is computed in `f64` (as for the
+/// spherical triangle and rectangle) and rounded to `f32` at the first
+/// sample (Π at construction; the clamping ranges are then made from the
+/// rounded constants, `ranges.rs`): an `f32` polygon is
 /// accepted when the `f64` constructor accepts the same values, unless two
 /// consecutive unit vertices round together in `f32`
 /// ([`WarpError::Unrepresentable`]). Each sample's height

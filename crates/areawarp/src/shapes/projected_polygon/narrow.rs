@@ -28,8 +28,8 @@ pub(super) fn unrepresentable() -> WarpError {
     }
 }
 
-/// Whether the oriented unit vertices `vertices_w` (from [`prepare`] in the
-/// wide type, `prepare`), rounded to `T`, are still distinct from their neighbours:
+/// Whether the oriented unit vertices `vertices_w` (from `build::prepare`,
+/// in the wide type), rounded to `T`, are still distinct from their neighbours:
 /// the polygon's edges exist in `T`. (Its orientation and every constant
 /// come from the wide type, so nothing else of `T`'s rounding can undo it;
 /// this is one cross product per edge, not a second validation.)

@@ -121,9 +121,9 @@ impl<T: Real> Warp<T> for WithHeight<T> {
     fn map(&self, u: &T, xi2: &T) -> Vec3<T> {
         let w = &self.w;
         let phi = w.azimuth(u);
-        let (l, p) = w.locate_azimuth(w.parts(), &phi);
-        let (side, c, s) = ProjectedPolygon::side_coordinates(w.parts(), l, &p);
         let parts = w.parts();
+        let (l, p) = w.locate_azimuth(parts, &phi);
+        let (side, c, s) = ProjectedPolygon::side_coordinates(parts, l, &p);
         let lune = &parts.lunes[l];
         // The paper's intervals [z_i, z̄_i] on the meridian.
         let iv: Vec<(T, T)> = parts.pairs[lune.first..lune.end]
