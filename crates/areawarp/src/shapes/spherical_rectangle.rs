@@ -172,7 +172,7 @@ pub struct SphericalRectangle<T: Real> {
     literal: Option<Literal<T>>,
     variant: SphericalRectangleVariant,
     bits: u32,
-    omega: T,
+    /// 1/Ω (Ω itself is `robust`'s).
     inv_omega: T,
 }
 
@@ -236,12 +236,11 @@ impl<T: Real> SphericalRectangle<T> {
         let bits = bits.min(T::precision());
         let geometry = wide_geometry(&s, &ex, &ey, &o, bits)?;
         let parts = Omega::new(&geometry);
-        let (omega, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let inv_omega = check_range(&geometry, &parts.omega)?;
         let robust = Robust::from_omega(&geometry, parts, None);
         let out = SphericalRectangle {
             ey_input: ey,
             inv_omega,
-            omega,
             geometry,
             robust,
             cone: OnceLock::new(),
@@ -336,7 +335,7 @@ impl<T: Real> SphericalRectangle<T> {
     /// for every accepted rectangle (see the type's docs); the density of
     /// both variants is `1/Ω`.
     pub fn solid_angle(&self) -> T {
-        self.omega.clone()
+        self.robust.omega().clone()
     }
 
     /// The solid angle `S = γ₀ + γ₁ + γ₂ + γ₃ − 2π` of the paper's Listing 2
@@ -433,7 +432,7 @@ impl<T: Real> SphericalRectangle<T> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
         let which = usize::from(!(clamp_unit(u) <= T::from_ratio(1, 2)));
         let parts = Omega::new(&geometry);
-        let (_, inv_omega) = check_range(&geometry, &parts.omega)?;
+        let inv_omega = check_range(&geometry, &parts.omega)?;
         let robust = Robust::from_omega(&geometry, parts, Some(which));
         Ok(sample_with(&geometry, &robust, &inv_omega, u, v))
     }
@@ -453,7 +452,9 @@ impl<T: Real> SphericalRectangle<T> {
     ) -> Result<T, WarpError> {
         let geometry = wide_geometry(s, ex, ey, o, T::precision())?;
         // Ω and the range check alone: not the map's anchors.
-        Ok(check_range(&geometry, &Omega::new(&geometry).omega)?.0)
+        let omega = Omega::new(&geometry).omega;
+        check_range(&geometry, &omega)?;
+        Ok(omega)
     }
 
     /// The density in area on the rectangle at the point `p`:
@@ -604,22 +605,21 @@ mod range {
     };
 }
 
-/// `(Ω, 1/Ω)` once `T` is known to serve the rectangle: `h²` (local, the
+/// `1/Ω` once `T` is known to serve the rectangle (Ω given): `h²` (local, the
 /// largest local length in `[1, 2)`) and Ω above `tiny/u` (`tiny ≈` the
 /// smallest normal number, `4/max`), so that the map's products of small
 /// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
 /// non-zero at the nearest and farthest points of the rectangle.
 #[inline(always)]
-fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<(T, T), WarpError> {
+fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<T, WarpError> {
     let tiny = T::normal_floor();
     let floor = tiny / &T::unit_roundoff();
     if !(g.h.square() >= floor) {
         return Err(range::GRAZING);
     }
-    let omega = omega.clone();
-    let inv_omega = T::one() / &omega;
-    if !(omega >= floor) || !omega.is_finite() || !inv_omega.is_finite() {
-        return Err(if positive(&omega) {
+    let inv_omega = T::one() / omega;
+    if !(*omega >= floor) || !omega.is_finite() || !inv_omega.is_finite() {
+        return Err(if positive(omega) {
             range::OMEGA
         } else {
             WarpError::Degenerate {
@@ -627,18 +627,18 @@ fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<(T, T), WarpError>
             }
         });
     }
-    if ordinary_density_range(&g.h, &omega, g.exp) {
-        return Ok((omega, inv_omega));
+    if ordinary_density_range(&g.h, omega, g.exp) {
+        return Ok(inv_omega);
     }
     let w = |x: &T| x.widen();
     let local = [w(&g.x0), w(&g.y0), w(&g.lx), w(&g.ly), w(&g.h)];
-    let omega_w = w(&omega);
+    let omega_w = w(omega);
     if !area_density_in_range::<T>(&local, &omega_w, g.exp)
         && !area_density_exact::<T>(&local, &omega_w, g.exp)
     {
         return Err(range::AREA_PDF);
     }
-    Ok((omega, inv_omega))
+    Ok(inv_omega)
 }
 
 /// A sufficient condition for [`area_density_in_range`] by three
@@ -714,7 +714,7 @@ impl<T: Real> Warp<T> for SphericalRectangle<T> {
 
     /// Ω.
     fn measure(&self) -> T {
-        self.omega.clone()
+        self.robust.omega().clone()
     }
 
     /// `(u, v)` of the direction `d` (normalized first): the ray from the

@@ -378,6 +378,11 @@ impl<T: Real> Robust<T> {
         solid_angle_between(&o.sdcd, &o.sd2, &o.cd2, ca, cb, dw)
     }
 
+    /// Ω, from the quantities the constants were completed from.
+    pub fn omega(&self) -> &T {
+        &self.parts.omega
+    }
+
     /// The column of the sample: `(ξ, x)` with `ξ = (x_u − x₀)/(x₁ − x₀)` and
     /// `x_u` (scaled local), for `u ∈ [0, 1]`.
     /// Inlined into its caller (the one-shot path: the shape's constants
