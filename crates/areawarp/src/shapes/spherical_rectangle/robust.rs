@@ -492,21 +492,12 @@ impl<T: Real> Robust<T> {
         } else {
             re.square() * &dsv * &(s.clone() + &se) / &((s.clone() * &dd + &(se * &re * &c)) * &c)
         };
-        if mirrored {
-            Row {
-                eta: one - &(dy * &self.inv_ly),
-                hv: -s,
-                dd,
-                c,
-            }
+        let (eta, hv) = if mirrored {
+            (one - &(dy * &self.inv_ly), -s)
         } else {
-            Row {
-                eta: dy * &self.inv_ly,
-                hv: s,
-                dd,
-                c,
-            }
-        }
+            (dy * &self.inv_ly, s)
+        };
+        Row { eta, hv, dd, c }
     }
 
     /// `(u, v)` of the local point `(x, y)` with the offsets
@@ -514,42 +505,23 @@ impl<T: Real> Robust<T> {
     #[allow(clippy::too_many_arguments)]
     pub fn uv_of(&self, x: &T, ax: &T, bx: &T, y: &T, ay: &T, by: &T) -> (T, T) {
         let one = T::one();
-        let col = column(x, &self.parts.lengths());
+        let o = &self.parts;
+        let k = o.lengths();
+        let col = column(x, &k);
         let u = if ax <= bx {
-            let dw = omega_diff(
-                &self.parts.lengths(),
-                &self.parts.x0,
-                &self.parts.col0,
-                x,
-                &col,
-                ax,
-            );
-            self.between(&self.parts.col0, &col, &dw) / &self.parts.omega
+            let dw = omega_diff(&k, &o.x0, &o.col0, x, &col, ax);
+            self.between(&o.col0, &col, &dw) / &o.omega
         } else {
-            let dw = omega_diff(
-                &self.parts.lengths(),
-                x,
-                &col,
-                &self.parts.x1,
-                &self.parts.col1,
-                bx,
-            );
-            one.clone() - &(self.between(&col, &self.parts.col1, &dw) / &self.parts.omega)
+            let dw = omega_diff(&k, x, &col, &o.x1, &o.col1, bx);
+            one.clone() - &(self.between(&col, &o.col1, &dw) / &o.omega)
         };
-        let d2 = x.square() + &self.parts.h2;
+        let d2 = x.square() + &o.h2;
         let ry = (d2.clone() + &y.square()).sqrt();
-        let total = row_diff(
-            &self.parts.y0,
-            &col.r0,
-            &self.parts.y1,
-            &col.r1,
-            &self.parts.ly,
-            &d2,
-        );
+        let total = row_diff(&o.y0, &col.r0, &o.y1, &col.r1, &o.ly, &d2);
         let v = if ay <= by {
-            row_diff(&self.parts.y0, &col.r0, y, &ry, ay, &d2) / &total
+            row_diff(&o.y0, &col.r0, y, &ry, ay, &d2) / &total
         } else {
-            one - &(row_diff(y, &ry, &self.parts.y1, &col.r1, by, &d2) / &total)
+            one - &(row_diff(y, &ry, &o.y1, &col.r1, by, &d2) / &total)
         };
         (u, v)
     }
