@@ -658,7 +658,7 @@ fn spherical_rectangle_rand_distribution() {
 /// The products-only test of the area densities' range never accepts what
 /// the exact test (square roots and divisions) rejects, over local lengths,
 /// heights, solid angles and scales across both types' ranges; and it
-/// accepts the ordinary cases (which `check_range` now settles first, by
+/// accepts the ordinary cases (which `check_range` settles first, by
 /// the three comparisons of `ordinary_density_range`).
 fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
@@ -701,42 +701,10 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
         );
     }
     // The three comparisons of `ordinary_density_range` imply the products'
-    // test, including at its corners (h = 2^-16, Ω = 2^-32, |exp| = 16,
-    // the farthest corner at (±4, ±4)).
-    for i in 0..100_000 {
-        let corner = i % 2 == 0;
-        let exp = if corner {
-            16 - 32 * (i / 2 % 2)
-        } else {
-            (next() * 33.0) as i32 - 16
-        };
-        let h = if corner {
-            2f64.powi(-16)
-        } else {
-            2f64.powi(-((next() * 17.0) as i32)) * (1.0 + next())
-        };
-        let omega = if corner {
-            2f64.powi(-32)
-        } else {
-            2f64.powi(-((next() * 33.0) as i32)) * (1.0 + 2.0 * next())
-        };
-        // The corner cases alternate between the farthest point at (4, 4)
-        // (x0 = y0 = 2) and the square around the foot (x0 = y0 = −2).
-        let (x0, y0) = if corner {
-            if i / 4 % 2 == 0 {
-                (2.0, 2.0)
-            } else {
-                (-2.0, -2.0)
-            }
-        } else {
-            (4.0 * next() - 2.0, 4.0 * next() - 2.0)
-        };
-        let (lx, ly) = if corner {
-            (2.0, 2.0)
-        } else {
-            (2.0 * next(), 2.0 * next())
-        };
-        let local = [x0, y0, lx, ly, h.min(2.0)];
+    // test, at its corners (h = 2^-16, Ω = 2^-32, |exp| = 16, with the
+    // farthest point at (4, 4) (x0 = y0 = 2) or the square around the foot
+    // (x0 = y0 = −2)) and at random points inside them.
+    let implies = |local: [f64; 5], omega: f64, exp: i32| {
         let (th, tomega) = (T::from_f64(local[4]), T::from_f64(omega));
         if super::ordinary_density_range(&th, &tomega, exp) {
             assert!(
@@ -744,6 +712,23 @@ fn area_density_fast_test_is_sound<T: Real<Wide = f64>>(max_log2_omega: i32) {
                 "{local:?} {omega:e} {exp}"
             );
         }
+    };
+    for exp in [16, -16] {
+        for corner in [2.0, -2.0] {
+            implies(
+                [corner, corner, 2.0, 2.0, 2f64.powi(-16)],
+                2f64.powi(-32),
+                exp,
+            );
+        }
+    }
+    for _ in 0..50_000 {
+        let exp = (next() * 33.0) as i32 - 16;
+        let h = 2f64.powi(-((next() * 17.0) as i32)) * (1.0 + next());
+        let omega = 2f64.powi(-((next() * 33.0) as i32)) * (1.0 + 2.0 * next());
+        let (x0, y0) = (4.0 * next() - 2.0, 4.0 * next() - 2.0);
+        let (lx, ly) = (2.0 * next(), 2.0 * next());
+        implies([x0, y0, lx, ly, h.min(2.0)], omega, exp);
     }
 }
 
