@@ -210,7 +210,7 @@ fn textbook_equals_areawarp_f32() {
 
 /// Which side of the `f32` differences is off: both `f32` one-shots against
 /// areawarp's `f64` one-shot of the same (`f32`) data, on the benchmark's
-/// triangles at the batch's `(u, v)`. Printed for the record; areawarp's
+/// triangles and rectangles at the batch's `(u, v)`. Printed for the record; areawarp's
 /// `f32` must be the closer.
 #[test]
 fn f32_accuracy_against_f64() {
@@ -236,4 +236,26 @@ fn f32_accuracy_against_f64() {
     }
     println!("f32 triangle vs f64: areawarp {ours:.3e}  textbook {book:.3e}");
     assert!(ours < book, "{ours} {book}");
+    // The rectangle: direction and relative pdf.
+    let (mut ours, mut book) = ([0.0f64; 2], [0.0f64; 2]);
+    for [s, ex, ey, o] in &rectangles::<f32>() {
+        let w = |p: &Vec3<f32>| p.convert::<f64>();
+        for (u, v) in &uv {
+            let p = SphericalRectangle::sample_once(s, ex, ey, o, u, v).unwrap();
+            let (q, _, qdf, _) = textbook_rectangle_sample(s, ex, ey, o, u, v);
+            let (u, v) = (f64::from(*u), f64::from(*v));
+            let r = SphericalRectangle::sample_once(&w(s), &w(ex), &w(ey), &w(o), &u, &v).unwrap();
+            let pdf = |x: f32| ((f64::from(x) - r.pdf) / r.pdf).abs();
+            ours = [
+                ours[0].max(dist(&w(&p.direction), &r.direction)),
+                ours[1].max(pdf(p.pdf)),
+            ];
+            book = [
+                book[0].max(dist(&w(&q), &r.direction)),
+                book[1].max(pdf(qdf)),
+            ];
+        }
+    }
+    println!("f32 rectangle vs f64 (direction, pdf): areawarp {ours:?}  textbook {book:?}");
+    assert!(ours[0] < book[0] && ours[1] < book[1], "{ours:?} {book:?}");
 }
