@@ -9,6 +9,16 @@
 //!   `(direction, pdf)` per `(u, v)`;
 //! - `one-shot`: construct + one sample per shading point
 //!   (`sample_once`, no shape kept);
+//! - `one-shot-textbook` (`f32`, `f64`): the same one-shot as a renderer
+//!   writes it, pbrt-v4 style, unvalidated, in `T`
+//!   (`support/textbook_one_shot.rs`; `tests/textbook_one_shot.rs` checks
+//!   it computes the same maps), over the same shading points and `(u, v)`,
+//!   folding the same outputs (the rectangle's textbook computes the area
+//!   pdf too); the parity reference for `one-shot`
+//!   (`python3 scripts/criterion-ratios triangle/f one-shot-textbook`:
+//!   every function of the group over it, so `one-shot` reads areawarp /
+//!   textbook and `per-sample` the inverse of textbook / per-sample;
+//!   `… rectangle/f one-shot-textbook`);
 //! - `solid-angle`: the one-shot solid angle (the pdf is `1/Ω`) per shading
 //!   point, no shape built;
 //! - `solid-angle-textbook`: the same solid angle as renderers write it,
@@ -36,10 +46,12 @@ use std::hint::black_box;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangles,
-    textbook_rectangle_solid_angle, textbook_solid_angle, triangle_one_shot, triangle_per_sample,
-    triangles,
+    N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
+    rectangles, textbook_rectangle_solid_angle, textbook_solid_angle, triangle_one_shot,
+    triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
+#[path = "support/textbook_one_shot.rs"]
+mod textbook;
 
 fn widen(v: &Vec3<f32>) -> Vec3<f64> {
     Vec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
@@ -61,6 +73,9 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
     });
     g.bench_function("one-shot", |bch| {
         bch.iter(|| triangle_one_shot(&shapes, &uv))
+    });
+    g.bench_function("one-shot-textbook", |bch| {
+        bch.iter(|| triangle_textbook_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {
@@ -147,6 +162,9 @@ fn rectangle_in<T: Real>(c: &mut Criterion, name: &str) {
     });
     g.bench_function("one-shot", |bch| {
         bch.iter(|| rectangle_one_shot(&shapes, &uv))
+    });
+    g.bench_function("one-shot-textbook", |bch| {
+        bch.iter(|| rectangle_textbook_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {

@@ -22,7 +22,15 @@
 //! measures its throughput (independent samples overlap in the processor);
 //! the one-shot pays the latency of its construction and of its sample on
 //! one dependent chain, so chained / per-sample is the part of the
-//! one-shot ratio that a cheaper construction cannot remove.
+//! one-shot ratio that a cheaper construction cannot remove. Last, the
+//! one-shot against the *textbook* one-shot (`support/textbook_one_shot.rs`:
+//! Arvo's and Ureña's published algorithms as pbrt-v4 writes them,
+//! unvalidated, in `T`; `tests/textbook_one_shot.rs` checks they compute the
+//! same maps) over the same shading points and `(u, v)`, folding the same
+//! outputs, with the per-sample batch timed in the same rotation: prints
+//! areawarp's one-shot, the textbook's, their ratio (parity at 1) and the
+//! textbook one-shot / areawarp's per-sample time (what an unvalidated
+//! one-shot costs against the target of 2.5).
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use areawarp::{Real, Vec3};
@@ -32,25 +40,34 @@ use std::time::Instant;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, rectangle_one_shot, rectangle_per_sample, rectangles, textbook_rectangle_solid_angle,
-    textbook_solid_angle, triangle_one_shot, triangle_per_sample, triangles,
+    N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
+    textbook_rectangle_solid_angle, textbook_solid_angle, triangle_one_shot, triangle_per_sample,
+    triangle_textbook_one_shot, triangles,
 };
+#[path = "support/textbook_one_shot.rs"]
+mod textbook;
+
+/// The minimum time per sample (ns) of each batch of `fs`, timed in turn
+/// (one after the other, round after round) `reps` times.
+fn min_times_of<const K: usize>(mut fs: [&mut dyn FnMut() -> f64; K], reps: usize) -> [f64; K] {
+    let mut best = [f64::INFINITY; K];
+    let mut sink = 0.0;
+    for _ in 0..reps {
+        for (f, best) in fs.iter_mut().zip(&mut best) {
+            let t = Instant::now();
+            sink += f();
+            *best = best.min(t.elapsed().as_nanos() as f64 / N as f64);
+        }
+    }
+    black_box(sink);
+    best
+}
 
 /// The minimum time per sample (ns) of the batches `f` and `g`, timed
 /// alternately `reps` times.
 fn min_times(mut f: impl FnMut() -> f64, mut g: impl FnMut() -> f64, reps: usize) -> (f64, f64) {
-    let (mut best_f, mut best_g) = (f64::INFINITY, f64::INFINITY);
-    let mut sink = 0.0;
-    for _ in 0..reps {
-        let t = Instant::now();
-        sink += f();
-        best_f = best_f.min(t.elapsed().as_nanos() as f64 / N as f64);
-        let t = Instant::now();
-        sink += g();
-        best_g = best_g.min(t.elapsed().as_nanos() as f64 / N as f64);
-    }
-    black_box(sink);
-    (best_f, best_g)
+    let [f, g] = min_times_of([&mut f, &mut g], reps);
+    (f, g)
 }
 
 fn report(what: &str, (per_sample, one_shot): (f64, f64)) {
@@ -187,6 +204,66 @@ fn main() {
         reps,
         &rectangle(&r64[0]),
         rectangle_per_sample,
+    );
+    // Each call names the batch functions anew: one tuple would fix `T`.
+    let tri32 = (
+        triangle_per_sample,
+        triangle_one_shot,
+        triangle_textbook_one_shot,
+    );
+    let tri64 = (
+        triangle_per_sample,
+        triangle_one_shot,
+        triangle_textbook_one_shot,
+    );
+    let rect32 = (
+        rectangle_per_sample,
+        rectangle_one_shot,
+        rectangle_textbook_one_shot,
+    );
+    let rect64 = (
+        rectangle_per_sample,
+        rectangle_one_shot,
+        rectangle_textbook_one_shot,
+    );
+    textbook("triangle f32", reps, &t32, triangle, tri32);
+    textbook("triangle f64", reps, &t64, triangle, tri64);
+    textbook("rectangle f32", reps, &r32, rectangle, rect32);
+    textbook("rectangle f64", reps, &r64, rectangle, rect64);
+}
+
+/// areawarp's one-shot against the textbook one-shot
+/// (`support/textbook_one_shot.rs`: pbrt-v4 style, unvalidated, in `T`) over
+/// the same shading points and `(u, v)`, folding the same outputs, with
+/// areawarp's per-sample batch of the first part timed in the same
+/// rotation: `ratio` is areawarp's one-shot / the textbook's (parity at 1),
+/// `textbook/per-sample` the textbook one-shot / areawarp's per-sample time
+/// (the target for a one-shot is 2.5).
+fn textbook<T: Real, S>(
+    name: &str,
+    reps: usize,
+    shapes: &[[Vec3<T>; 4]],
+    build: impl Fn(&[Vec3<T>; 4]) -> S,
+    (per_sample, one_shot, book): (
+        impl Fn(&S, &[(T, T)]) -> T,
+        impl Fn(&[[Vec3<T>; 4]], &[(T, T)]) -> T,
+        impl Fn(&[[Vec3<T>; 4]], &[(T, T)]) -> T,
+    ),
+) {
+    let uv = batch::<T>();
+    let light = build(&shapes[0]);
+    let [per, ours, theirs] = min_times_of(
+        [
+            &mut || per_sample(&light, &uv).to_f64(),
+            &mut || one_shot(shapes, &uv).to_f64(),
+            &mut || book(shapes, &uv).to_f64(),
+        ],
+        reps,
+    );
+    println!(
+        "{name:16} areawarp one-shot {ours:7.2} ns  textbook one-shot {theirs:7.2} ns  ratio {:.3}  textbook/per-sample {:.3} (per-sample {per:.2} ns)",
+        ours / theirs,
+        theirs / per
     );
 }
 

@@ -1,5 +1,6 @@
 //! The shading points, lights and `(u, v)` shared by `one_shot.rs` and
-//! `one_shot_min.rs`.
+//! `one_shot_min.rs`. Whoever includes this module also includes
+//! `textbook_one_shot.rs` as `mod textbook` (the textbook batches).
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use areawarp::{LightWarp, Real, Vec3, Warp};
@@ -105,6 +106,52 @@ pub fn rectangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T 
             let smp =
                 SphericalRectangle::sample_once(black_box(s), ex, ey, black_box(o), u, v).unwrap();
             fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+        })
+}
+
+/// One batch of textbook one-shot triangle samples
+/// (`textbook::textbook_triangle_sample`, unvalidated, in `T`) over the same
+/// shading points and `(u, v)` as [`triangle_one_shot`], folding the same
+/// outputs (direction, pdf). The vertex directions `p − o` are formed here,
+/// as `sample_once_from_points` forms them.
+#[inline(always)]
+pub fn triangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
+            let o = black_box(o);
+            let (p, pdf) = crate::textbook::textbook_triangle_sample(
+                &black_box(a).sub(o),
+                &b.sub(o),
+                &c.sub(o),
+                u,
+                v,
+            );
+            fold(acc, &p, &pdf)
+        })
+}
+
+/// One batch of textbook one-shot rectangle samples
+/// (`textbook::textbook_rectangle_sample`) over the same shading points and
+/// `(u, v)` as [`rectangle_one_shot`], folding the same outputs (direction,
+/// pdf, area pdf, point.x): the textbook computes the area pdf that
+/// areawarp's `LightSample` carries, so both sides do the same work.
+#[inline(always)]
+pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
+            let (direction, point, pdf, pdf_area) = crate::textbook::textbook_rectangle_sample(
+                black_box(s),
+                ex,
+                ey,
+                black_box(o),
+                u,
+                v,
+            );
+            fold(acc, &direction, &pdf) + &pdf_area + &point.x
         })
 }
 
