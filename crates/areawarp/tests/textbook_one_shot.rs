@@ -216,8 +216,8 @@ fn textbook_equals_areawarp_f32() {
 fn f32_accuracy_against_f64() {
     let uv = batch::<f32>();
     let (mut ours, mut book) = (0.0f64, 0.0f64);
+    let wide = |p: &Vec3<f32>| p.convert::<f64>();
     for [a, b, c, o] in &triangles::<f32>() {
-        let wide = |p: &Vec3<f32>| p.convert::<f64>();
         let (da, db, dc) = (a.sub(o), b.sub(o), c.sub(o));
         for (u, v) in &uv {
             let (p, _) = SphericalTriangle::sample_once_from_points(a, b, c, o, u, v).unwrap();
@@ -239,19 +239,20 @@ fn f32_accuracy_against_f64() {
     // The rectangle: direction and relative pdf.
     let (mut ours, mut book) = ([0.0f64; 2], [0.0f64; 2]);
     for [s, ex, ey, o] in &rectangles::<f32>() {
-        let w = |p: &Vec3<f32>| p.convert::<f64>();
         for (u, v) in &uv {
             let p = SphericalRectangle::sample_once(s, ex, ey, o, u, v).unwrap();
             let (q, _, qdf, _) = textbook_rectangle_sample(s, ex, ey, o, u, v);
             let (u, v) = (f64::from(*u), f64::from(*v));
-            let r = SphericalRectangle::sample_once(&w(s), &w(ex), &w(ey), &w(o), &u, &v).unwrap();
+            let r =
+                SphericalRectangle::sample_once(&wide(s), &wide(ex), &wide(ey), &wide(o), &u, &v)
+                    .unwrap();
             let pdf = |x: f32| ((f64::from(x) - r.pdf) / r.pdf).abs();
             ours = [
-                ours[0].max(dist(&w(&p.direction), &r.direction)),
+                ours[0].max(dist(&wide(&p.direction), &r.direction)),
                 ours[1].max(pdf(p.pdf)),
             ];
             book = [
-                book[0].max(dist(&w(&q), &r.direction)),
+                book[0].max(dist(&wide(&q), &r.direction)),
                 book[1].max(pdf(qdf)),
             ];
         }
