@@ -226,10 +226,10 @@ fn main() {
         rectangle_one_shot,
         rectangle_textbook_one_shot,
     );
-    textbook("triangle f32", reps, &t32, triangle, tri32);
-    textbook("triangle f64", reps, &t64, triangle, tri64);
-    textbook("rectangle f32", reps, &r32, rectangle, rect32);
-    textbook("rectangle f64", reps, &r64, rectangle, rect64);
+    against_textbook("triangle f32", reps, &t32, triangle, tri32);
+    against_textbook("triangle f64", reps, &t64, triangle, tri64);
+    against_textbook("rectangle f32", reps, &r32, rectangle, rect32);
+    against_textbook("rectangle f64", reps, &r64, rectangle, rect64);
 }
 
 /// areawarp's one-shot against the textbook one-shot
@@ -239,7 +239,7 @@ fn main() {
 /// rotation: `ratio` is areawarp's one-shot / the textbook's (parity at 1),
 /// `textbook/per-sample` the textbook one-shot / areawarp's per-sample time
 /// (the target for a one-shot is 2.5).
-fn textbook<T: Real, S>(
+fn against_textbook<T: Real, S>(
     name: &str,
     reps: usize,
     shapes: &[[Vec3<T>; 4]],
