@@ -104,6 +104,18 @@ macro_rules! impl_real_for_float {
                 $t::is_nan(*self)
             }
             #[inline]
+            fn is_finite_above(&self, lo: &Self) -> bool {
+                // For values with the sign bit clear the order of the bits
+                // is the order of the values, and every negative value or
+                // NaN has bits above +∞'s: `lo < self < ∞` is
+                // `bits(lo) < bits(self) < bits(∞)`, one unsigned comparison
+                // after the shift by `bits(lo) + 1`.
+                let inf = $t::INFINITY.to_bits();
+                let lo = lo.to_bits();
+                debug_assert!(lo < inf, "is_finite_above: lo must be finite and non-negative");
+                self.to_bits().wrapping_sub(lo).wrapping_sub(1) < (inf - lo).wrapping_sub(1)
+            }
+            #[inline]
             fn is_sign_negative(&self) -> bool {
                 $t::is_sign_negative(*self)
             }
@@ -281,6 +293,44 @@ mod tests {
             assert_eq!(got, want, "f64 {x}");
             let got32 = Real::clamp(&(x as f32), &0.0, &1.0);
             assert_eq!(got32, want as f32, "f32 {x}");
+        }
+    }
+
+    /// The bit comparison of `is_finite_above` answers `lo < x < ∞` for
+    /// every `x` (NaN of either sign, infinities, zeros, subnormals, the
+    /// extremes) and every non-negative finite `lo` among them.
+    #[test]
+    fn is_finite_above_matches_the_comparisons() {
+        let xs = [
+            f64::NAN,
+            -f64::NAN,
+            f64::NEG_INFINITY,
+            -f64::MAX,
+            -1.0,
+            -f64::from_bits(1),
+            -0.0,
+            0.0,
+            f64::from_bits(1),
+            f64::MIN_POSITIVE,
+            f64::EPSILON,
+            0.5,
+            1.0,
+            f64::MAX,
+            f64::INFINITY,
+        ];
+        let los = [0.0, f64::from_bits(1), f64::EPSILON.powi(4), 1.0, f64::MAX];
+        for lo in los {
+            for x in xs {
+                let want = x > lo && x.is_finite();
+                assert_eq!(Real::is_finite_above(&x, &lo), want, "f64 {x} above {lo}");
+                let (x32, lo32) = (x as f32, (lo as f32).min(f32::MAX));
+                let want32 = x32 > lo32 && x32.is_finite();
+                assert_eq!(
+                    Real::is_finite_above(&x32, &lo32),
+                    want32,
+                    "f32 {x32} above {lo32}"
+                );
+            }
         }
     }
 }

@@ -125,6 +125,14 @@ pub trait Real:
     fn is_finite(&self) -> bool;
     /// `true` if NaN.
     fn is_nan(&self) -> bool;
+    /// `lo < self < ∞` for a non-negative finite `lo` (not `-0`); `false`
+    /// for NaN. The constructors' range tests ("positive and finite",
+    /// "neither tiny nor infinite"): `f32` and `f64` answer with one integer
+    /// comparison of the bits, where the two floating-point tests compile
+    /// to a dozen instructions of classification.
+    fn is_finite_above(&self, lo: &Self) -> bool {
+        *self > *lo && self.is_finite()
+    }
     /// `true` if the sign bit is set (including `-0`).
     fn is_sign_negative(&self) -> bool;
 

@@ -390,7 +390,7 @@ impl<T: Real> SphericalTriangle<T> {
             (direction.dot(&va.cross(vb)) * &sign).max(&zero),
         ];
         let sum = w[0].clone() + &w[1] + &w[2];
-        if !(sum > zero) || !sum.is_finite() {
+        if !sum.is_finite_above(&zero) {
             let third = T::from_ratio(1, 3);
             return [third.clone(), third.clone(), third];
         }
@@ -414,11 +414,17 @@ impl<T: Real> SphericalTriangle<T> {
         ])?;
         let o = widen3(observer);
         let d = [widen3(p0).sub(&o), widen3(p1).sub(&o), widen3(p2).sub(&o)];
-        check_finite([
-            (&d[0], "vertex A"),
-            (&d[1], "vertex B"),
-            (&d[2], "vertex C"),
-        ])?;
+        // A difference of two finite `T` values overflows only when the
+        // wide type is `T` itself (its range not at least twice `T`'s).
+        if <T::Wide as Real>::max_value()
+            <= T::max_value().widen() * &<T::Wide as Real>::from_i64(2)
+        {
+            check_finite([
+                (&d[0], "vertex A"),
+                (&d[1], "vertex B"),
+                (&d[2], "vertex C"),
+            ])?;
+        }
         let core = Core::new(&d[0], &d[1], &d[2])?;
         Ok((d.map(|v| narrow3::<T>(&v)), core))
     }

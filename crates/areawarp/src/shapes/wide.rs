@@ -27,6 +27,18 @@ pub(crate) fn check_finite<T: Real, const N: usize>(
     if sum.is_finite() {
         return Ok(());
     }
+    first_non_finite(named)
+}
+
+/// The cold half of [`check_finite`]: `Err(NonFinite)` naming the first
+/// vector of `named` with a NaN or infinite coordinate. Out of line, so
+/// that the array of names is formed only on this path (inlined, it was
+/// stored on the stack before every constructor's finiteness test).
+#[cold]
+#[inline(never)]
+fn first_non_finite<T: Real, const N: usize>(
+    named: [(&Vec3<T>, &'static str); N],
+) -> Result<(), WarpError> {
     match named.iter().find(|(v, _)| !v.is_finite()) {
         Some(&(_, what)) => Err(WarpError::NonFinite { what }),
         None => Ok(()),
@@ -38,7 +50,7 @@ pub(crate) fn check_finite<T: Real, const N: usize>(
 /// [`unit_vector`] and of the rectangle's lengths and frame.
 #[inline(always)]
 pub(crate) fn plain_root_is_safe<T: Real>(sum: &T) -> bool {
-    *sum > T::unit_roundoff().powi(4) && sum.is_finite()
+    sum.is_finite_above(&T::unit_roundoff().powi(4))
 }
 
 /// `v` in `T::Wide` (exact).

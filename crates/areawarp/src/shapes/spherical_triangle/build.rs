@@ -46,7 +46,7 @@ pub(super) fn tangent<T: Real>(
         plus.sub(&x.scale(&(q_plus.clone() / &two)))
     };
     let len = norm2(&t).sqrt();
-    if !positive(&len) || !len.is_finite() {
+    if !len.is_finite_above(&T::zero()) {
         return None;
     }
     let inv = T::one() / &len;
@@ -238,7 +238,7 @@ impl<W: Real> Core<W> {
         let d = abs_det.clone() * &inv_sin_b;
         let inv_d = sin_b.clone() / &abs_det;
         let ka = v.ab.dot(&c_perp);
-        if !positive(&d) || !d.is_finite() {
+        if !d.is_finite_above(&W::zero()) {
             return Err(reject::UNDERFLOW);
         }
         let sign = if ccw { W::one() } else { -W::one() };
@@ -376,10 +376,9 @@ impl<W: Real> Anchor<W> {
             t_b: narrow3::<T>(&self.t_b),
             n_b: narrow3::<T>(&self.n_b),
         };
-        let finite = out.k1_d.is_finite()
+        let finite = out.k1_d.is_finite_above(&T::zero())
             && out.k_d.is_finite()
             && out.inv_s2.is_finite()
-            && positive(&out.k1_d)
             && out.v_minus_b.max_abs() > T::zero();
         finite.then_some(out)
     }
@@ -419,7 +418,7 @@ impl<T: Real> Scalars<T> {
 pub(super) fn omega_in<T: Real>(wide: &T::Wide) -> Result<(T, T), WarpError> {
     let omega = T::narrow(wide);
     let inv_omega = T::narrow(&(<T::Wide as Real>::one() / wide));
-    if !positive(&omega) || !positive(&inv_omega) || !inv_omega.is_finite() {
+    if !positive(&omega) || !inv_omega.is_finite_above(&T::zero()) {
         return Err(reject::OUT_OF_RANGE);
     }
     Ok((omega, inv_omega))

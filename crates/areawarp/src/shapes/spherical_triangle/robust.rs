@@ -3,7 +3,7 @@
 //! one-shot path) and the inverse.
 
 use super::build::{Anchor, norm2};
-use super::{SphericalTriangle, clamp_keep_nan, positive};
+use super::{SphericalTriangle, clamp_keep_nan};
 use crate::real::Real;
 use crate::shapes::turns::clamp_unit;
 use crate::shapes::wide::unit_vector;
@@ -129,7 +129,7 @@ impl<T: Real> SphericalTriangle<T> {
             y = -y;
         }
         let r = x.hypot(&y);
-        if !positive(&r) || !r.is_finite() {
+        if !r.is_finite_above(&T::zero()) {
             return None;
         }
         // tan(θ/2) = y/(r + x) = (r − x)/y, whichever does not cancel.
