@@ -258,13 +258,19 @@ impl<T: Real> Geometry<T> {
         // Scale the local lengths by a power of two (exactly) so that the
         // largest is in [1, 2): squares and products of four lengths then
         // neither overflow nor underflow in f32.
-        let m = x0w
-            .abs()
-            .max(&y0w.abs())
-            .max(&lx_world)
-            .max(&ly_world)
-            .max(&h_world)
-            .to_f64();
+        // By comparisons: `max` pays a dozen instructions per call for its
+        // NaN handling, and a NaN here (from an overflowed s − o) makes Ω
+        // NaN and the shape rejected whatever the scale.
+        let larger = |a: T, b: &T| if *b > a { b.clone() } else { a };
+        let m = [
+            y0w.abs(),
+            lx_world.clone(),
+            ly_world.clone(),
+            h_world.clone(),
+        ]
+        .iter()
+        .fold(x0w.abs(), larger)
+        .to_f64();
         let e = if m > 0.0 && m.is_finite() {
             // 2^±lim is representable in T (±120 in f32, ±1016 in f64).
             let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;

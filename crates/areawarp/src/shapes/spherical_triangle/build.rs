@@ -151,14 +151,12 @@ impl<W: Real> Validated<W> {
         // chord (e₁, e₂ the two shortest chords): the cross product of short
         // difference vectors keeps relative accuracy for small triangles.
         // The criterion |det| ≤ 256·u·ℓ₁ℓ₂ compares squares: det² ≤ (256u)²ℓ₁²ℓ₂².
-        // The two shortest chords (for the criterion below).
-        let (q1, q2) = if q_bc >= q_ab && q_bc >= q_ca {
-            (&q_ab, &q_ca)
-        } else if q_ca >= q_ab {
-            (&q_ab, &q_bc)
-        } else {
-            (&q_bc, &q_ca)
-        };
+        // ℓ₁²ℓ₂², the product of the two shortest chords (for the criterion
+        // below), is the smallest of the three pairwise products (rounding
+        // is monotonic, so also after rounding): no selection, no branch.
+        let q12 = (q_ab.clone() * &q_bc)
+            .min(&(q_bc.clone() * &q_ca))
+            .min(&(q_ca.clone() * &q_ab));
         // The pair (X, Y) with the smallest |X + Y| (nearest to antipodal)
         // and the third vertex Z: det(A, B, C) is unchanged when one column
         // is added to another, so det = (X + Y)·(…) with the short, exactly
@@ -175,7 +173,7 @@ impl<W: Real> Validated<W> {
         } else {
             (s_bc.clone(), p_bc.clone(), &a, 2)
         };
-        let det = if q_sum < q1.clone() * q2 {
+        let det = if q_sum < q12 {
             // (C + A)·(B × C) and (A + B)·(B × C) are det; for B + C the
             // sum takes C's column.
             match pair {
@@ -190,7 +188,8 @@ impl<W: Real> Validated<W> {
             c.dot(&ca.cross(&bc.neg()))
         };
         let k = W::from_i64(256) * &W::unit_roundoff();
-        if det.is_nan() || det.square() <= k.square() * q1 * q2 {
+        // k² is a power of two: k²·(ℓ₁²ℓ₂²) rounds as (k²ℓ₁²)·ℓ₂² did.
+        if det.is_nan() || det.square() <= k.square() * &q12 {
             return Err(reject::ON_CIRCLE);
         }
         // Nearly antipodal pairs.
@@ -376,10 +375,14 @@ impl<W: Real> Anchor<W> {
             t_b: narrow3::<T>(&self.t_b),
             n_b: narrow3::<T>(&self.n_b),
         };
-        let finite = out.k1_d.is_finite_above(&T::zero())
+        // V − B (finite) rounded to zero: three comparisons, where
+        // `max_abs() > 0` compiled to NaN-aware maxima.
+        let zero = T::zero();
+        let d = &out.v_minus_b;
+        let finite = out.k1_d.is_finite_above(&zero)
             && out.k_d.is_finite()
             && out.inv_s2.is_finite()
-            && out.v_minus_b.max_abs() > T::zero();
+            && !(d.x == zero && d.y == zero && d.z == zero);
         finite.then_some(out)
     }
 }
