@@ -262,14 +262,10 @@ impl<T: Real> Geometry<T> {
         // NaN handling, and a NaN here (from an overflowed s − o) makes Ω
         // NaN and the shape rejected whatever the scale.
         let larger = |a: T, b: &T| if *b > a { b.clone() } else { a };
-        let m = [
-            y0w.abs(),
-            lx_world.clone(),
-            ly_world.clone(),
-            h_world.clone(),
-        ]
-        .iter()
-        .fold(x0w.abs(), larger)
+        let m = larger(
+            larger(larger(larger(x0w.abs(), &y0w.abs()), &lx_world), &ly_world),
+            &h_world,
+        )
         .to_f64();
         let e = if m > 0.0 && m.is_finite() {
             // 2^±lim is representable in T (±120 in f32, ±1016 in f64).
