@@ -21,9 +21,13 @@ use crate::vector::Vec3;
 pub(crate) fn check_finite<T: Real, const N: usize>(
     named: [(&Vec3<T>, &'static str); N],
 ) -> Result<(), WarpError> {
-    let sum = named
-        .iter()
-        .fold(T::zero(), |acc, (v, _)| acc + &v.x + &v.y + &v.z);
+    // The vectors' sum first, then its coordinates: vector additions, where
+    // a running sum of all coordinates would be one long scalar chain.
+    let [(first, _), rest @ ..] = &named[..] else {
+        return Ok(());
+    };
+    let v = rest.iter().fold((*first).clone(), |acc, (v, _)| acc.add(v));
+    let sum = v.x + &v.y + &v.z;
     if sum.is_finite() {
         return Ok(());
     }

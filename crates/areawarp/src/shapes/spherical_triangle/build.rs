@@ -154,9 +154,13 @@ impl<W: Real> Validated<W> {
         // ℓ₁²ℓ₂², the product of the two shortest chords (for the criterion
         // below), is the smallest of the three pairwise products (rounding
         // is monotonic, so also after rounding): no selection, no branch.
-        let q12 = (q_ab.clone() * &q_bc)
-            .min(&(q_bc.clone() * &q_ca))
-            .min(&(q_ca.clone() * &q_ab));
+        // (By comparisons: the chords are finite, `min`'s NaN handling
+        // would cost a dozen instructions.)
+        let smaller = |a: W, b: W| if b < a { b } else { a };
+        let q12 = smaller(
+            smaller(q_ab.clone() * &q_bc, q_bc.clone() * &q_ca),
+            q_ca.clone() * &q_ab,
+        );
         // The pair (X, Y) with the smallest |X + Y| (nearest to antipodal)
         // and the third vertex Z: det(A, B, C) is unchanged when one column
         // is added to another, so det = (X + Y)·(…) with the short, exactly
