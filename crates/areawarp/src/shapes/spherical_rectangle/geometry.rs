@@ -130,7 +130,10 @@ impl<T: Real> Frame<T> {
     /// (e_x·e_y/|e_x|²) e_x` and the perpendicularity test
     /// `|e_x·e_y| ≤ tol |e_x| |e_y|` come from `e_x·e_y` directly, so that
     /// the second edge's root does not wait for the first's root and
-    /// division (the constructor's longest chain of dependent operations).
+    /// division (the constructor's longest chain of dependent operations);
+    /// the test is taken in squares, `(e_x·e_y)²/|e_x|² ≤ tol² |e_y|²`, with
+    /// the projection's own quotient (no root of `|e_y|²`; the left side is
+    /// at most `|e_y|²`, so neither side overflows).
     #[inline(always)]
     fn direct(ex: &Vec3<T>, ey: &Vec3<T>, tol: &T) -> Option<Result<Self, WarpError>> {
         let lx2 = ex.dot(ex);
@@ -139,12 +142,13 @@ impl<T: Real> Frame<T> {
             return None;
         }
         let ee = ex.dot(ey);
-        // Both roots are at least u², their product with tol is normal.
-        let lx_world = lx2.sqrt();
-        if ee.abs() > tol.clone() * &lx_world * &ey2.sqrt() {
+        let k = ee.clone() / &lx2;
+        // tol²|e_y|² ≥ tol² u⁴ is normal.
+        if k.clone() * &ee > tol.square() * &ey2 {
             return Some(Err(not_perpendicular()));
         }
-        let ey_perp = ey.sub(&ex.scale(&(ee / &lx2)));
+        let lx_world = lx2.sqrt();
+        let ey_perp = ey.sub(&ex.scale(&k));
         let ly2 = ey_perp.dot(&ey_perp);
         if !plain_root_is_safe(&ly2) {
             return None;
