@@ -74,7 +74,7 @@ pub(crate) fn narrow3<T: Real>(v: &Vec3<T::Wide>) -> Vec3<T> {
 #[inline]
 pub(crate) fn floor_log2(x: f64) -> i32 {
     let a = x.abs();
-    if !(a > 0.0) || !a.is_finite() {
+    if !Real::is_finite_above(&a, &0.0) {
         return 0;
     }
     if a >= f64::MIN_POSITIVE {

@@ -271,7 +271,7 @@ impl<T: Real> Geometry<T> {
             &h_world,
         )
         .to_f64();
-        let e = if m > 0.0 && m.is_finite() {
+        let e = if Real::is_finite_above(&m, &0.0) {
             // 2^±lim is representable in T (±120 in f32, ±1016 in f64).
             let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
             floor_log2(m).clamp(-lim, lim)
