@@ -128,6 +128,49 @@ fn constructor_rejects_bad_input() {
     assert!(SphericalTriangle::<f64>::new(p.convert(), q.convert(), r.convert()).is_ok());
 }
 
+/// `from_points` (and its one-shot) names a non-finite input point or
+/// observer before a difference `p − observer` that overflows, in `f64`
+/// (where the difference of finite values can overflow) and `f32` (where,
+/// formed in `f64`, it cannot).
+#[test]
+fn from_points_names_what_is_not_finite() {
+    fn check<T: Real>() {
+        let p = |x: f64, y: f64, z: f64| Vec3::<T>::from_f64(x, y, z);
+        let (a, b, c, o) = (
+            p(1.0, 0.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 1.0),
+            p(0.0, 0.0, 0.0),
+        );
+        let err = |a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>, o: &Vec3<T>| {
+            let once =
+                SphericalTriangle::sample_once_from_points(a, b, c, o, &T::zero(), &T::zero());
+            let built = SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), o.clone());
+            assert_eq!(once.clone().err(), built.err());
+            once.err()
+        };
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let v = p(bad, 0.0, 1.0);
+            let named = |what| Some(WarpError::NonFinite { what });
+            assert_eq!(err(&v, &b, &c, &o), named("point 0"));
+            assert_eq!(err(&a, &b, &v, &o), named("point 2"));
+            assert_eq!(err(&a, &b, &c, &v), named("observer"));
+            // Both an input and the observer: the input is named first.
+            assert_eq!(err(&a, &v, &c, &v), named("point 1"));
+        }
+        let big = T::max_value().to_f64();
+        let far = p(big, 0.0, 0.0);
+        let overflow = err(&far, &b, &c, &p(-big, 0.0, 0.0));
+        if T::precision() == 53 {
+            assert_eq!(overflow, Some(WarpError::NonFinite { what: "vertex A" }));
+        } else {
+            assert_ne!(overflow, Some(WarpError::NonFinite { what: "vertex A" }));
+        }
+    }
+    check::<f64>();
+    check::<f32>();
+}
+
 #[test]
 fn from_points_and_variants() {
     let o = Vec3::new(1.0, 2.0, 3.0);
