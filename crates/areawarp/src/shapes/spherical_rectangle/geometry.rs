@@ -271,13 +271,10 @@ impl<T: Real> Geometry<T> {
             &h_world,
         )
         .to_f64();
-        let e = if Real::is_finite_above(&m, &0.0) {
-            // 2^±lim is representable in T (±120 in f32, ±1016 in f64).
-            let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
-            floor_log2(m).clamp(-lim, lim)
-        } else {
-            0
-        };
+        // 2^±lim is representable in T (±120 in f32, ±1016 in f64);
+        // `floor_log2` gives 0 for a zero or non-finite m (no scaling).
+        let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
+        let e = floor_log2(m).clamp(-lim, lim);
         let scale = T::exp2i(-e);
         let x0 = x0w * &scale;
         let y0 = y0w * &scale;
