@@ -150,7 +150,7 @@ impl<T: Real> Vec3<T> {
         // Divide (rather than multiply by 1/n, which overflows for subnormal
         // vectors); `norm` itself neither overflows nor underflows.
         let n = self.norm();
-        if n > T::zero() && n.is_finite() {
+        if n.is_finite_above(&T::zero()) {
             Some(Vec3::new(
                 self.x.clone() / &n,
                 self.y.clone() / &n,

@@ -123,7 +123,7 @@ impl Tolerance {
 /// |y| / d when the density d is positive and finite, else 0: the width of
 /// the set of x whose F is within a unit roundoff (relative) of y.
 fn noise_scale<T: Real>(y: &T, d: &T) -> T {
-    if *d > T::zero() && d.is_finite() {
+    if d.is_finite_above(&T::zero()) {
         let s = y.abs() / d;
         if s.is_finite() {
             return s;
@@ -253,7 +253,7 @@ fn update_bracket<T: Real>(x: &T, f: &T, lo: &mut T, hi: &mut T) {
 /// The Newton update `x − f/d`, if the density is usable and the result is
 /// finite.
 fn newton_point<T: Real>(x: &T, f: &T, d: &T) -> Option<T> {
-    if !(*d > T::zero() && d.is_finite()) {
+    if !d.is_finite_above(&T::zero()) {
         return None;
     }
     let n = x.clone() - &(f.clone() / d);

@@ -374,7 +374,7 @@ impl<T: Real> SphericalRectangle<T> {
                 let offset = point.sub(lit.observer());
                 let r2 = offset.norm_squared();
                 let r = r2.sqrt();
-                let direction = if r > T::zero() && r.is_finite() {
+                let direction = if r.is_finite_above(&T::zero()) {
                     offset.scale(&(T::one() / &r))
                 } else {
                     self.geometry.zhat.neg()

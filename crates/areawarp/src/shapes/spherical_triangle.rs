@@ -86,11 +86,6 @@ fn clamp_keep_nan<T: Real>(x: &T) -> T {
     clamp_unit(x)
 }
 
-/// `x > 0`: `false` for zero, negative values and NaN.
-fn positive<T: Real>(x: &T) -> bool {
-    *x > T::zero()
-}
-
 /// Uniform directions in a spherical triangle: Arvo's area-preserving map
 /// (Arvo 1995; Arvo 2001, §1.3.5).
 ///

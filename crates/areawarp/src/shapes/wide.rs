@@ -104,7 +104,7 @@ pub(crate) fn unit_vector<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
         ));
     }
     let m = v.max_abs();
-    if !(m > T::zero()) || !m.is_finite() {
+    if !m.is_finite_above(&T::zero()) {
         return None;
     }
     let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);

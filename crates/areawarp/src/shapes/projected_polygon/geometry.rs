@@ -79,7 +79,7 @@ pub(super) fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {
 /// two `hypot` calls of [`Vec3::normalized`]).
 pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
     let m = v.max_abs();
-    if !(m > T::zero() && m.is_finite()) {
+    if !m.is_finite_above(&T::zero()) {
         return None;
     }
     let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
@@ -108,7 +108,7 @@ pub(super) fn unit_direction<T: Real>(
     }
     let w = v.scale(&(T::one() / &m));
     let n = w.dot(&w).sqrt();
-    if !(n > T::zero() && n.is_finite()) {
+    if !n.is_finite_above(&T::zero()) {
         return Err(zero());
     }
     Ok(w.scale(&(T::one() / &n)))

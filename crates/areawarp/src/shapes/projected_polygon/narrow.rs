@@ -89,7 +89,7 @@ pub(super) fn narrow_measure<T: Real>(lunes: &[Lune<T::Wide>]) -> Option<T> {
             measure += &area;
         }
     }
-    (measure > T::zero() && measure.is_finite()).then_some(measure)
+    measure.is_finite_above(&T::zero()).then_some(measure)
 }
 
 /// The wide partition rounded to `T`. Lunes whose area rounds to zero are

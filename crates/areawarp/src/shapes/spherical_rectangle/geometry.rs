@@ -80,7 +80,7 @@ pub(super) fn length<T: Real>(v: &[T]) -> T {
         return sum.sqrt();
     }
     let m = v.iter().fold(T::zero(), |acc, x| acc.max(&x.abs()));
-    if !positive(&m) || !m.is_finite() {
+    if !m.is_finite_above(&T::zero()) {
         return m;
     }
     let scaled = v

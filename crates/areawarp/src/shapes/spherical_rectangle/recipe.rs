@@ -108,7 +108,7 @@ impl<T: Real> SphericalRectangleRecipe<T> {
             omega: T::zero(),
         };
         r.omega = r.strip(&r.geometry.x0, &r.x1);
-        if !positive(&r.omega) || !r.omega.is_finite() {
+        if !r.omega.is_finite_above(&T::zero()) {
             return Err(WarpError::Degenerate {
                 what: "zero solid angle",
             });

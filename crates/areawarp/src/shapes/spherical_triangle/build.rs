@@ -7,9 +7,9 @@
 //! same values; what `T` cannot hold (a solid angle or constant outside its
 //! range) is rejected after rounding, with [`WarpError::Unrepresentable`].
 
-use super::positive;
 use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::turns::positive;
 use crate::shapes::turns::twice_atan2_nonneg;
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
