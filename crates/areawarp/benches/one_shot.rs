@@ -47,11 +47,11 @@ use std::hint::black_box;
 mod data;
 use data::{
     N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
-    rectangles, textbook_rectangle_solid_angle, textbook_solid_angle, triangle_one_shot,
-    triangle_per_sample, triangle_textbook_one_shot, triangles,
+    rectangles, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
+use textbook::{textbook_rectangle_solid_angle, textbook_solid_angle};
 
 fn widen(v: &Vec3<f32>) -> Vec3<f64> {
     Vec3::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))

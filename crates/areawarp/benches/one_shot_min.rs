@@ -15,8 +15,8 @@
 //!
 //! Prints ns per sample (batch / 256) and the ratio one-shot / per-sample;
 //! then the one-shot solid angle (`solid_angle_of`, no shape built) against
-//! the textbook formula of `one_shot.rs` (unvalidated, in `T`), per shading
-//! point, timed the same way; then the prepared sample *chained*: each
+//! the textbook formula (`support/textbook_one_shot.rs`: unvalidated, in
+//! `T`), per shading point, timed the same way; then the prepared sample *chained*: each
 //! `(u, v)` waits on the previous sample's result, as the one-shot's sample
 //! waits on its Ω. That is the sample's latency, where the per-sample batch
 //! measures its throughput (independent samples overlap in the processor);
@@ -41,11 +41,11 @@ use std::time::Instant;
 mod data;
 use data::{
     N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
-    textbook_rectangle_solid_angle, textbook_solid_angle, triangle_one_shot, triangle_per_sample,
-    triangle_textbook_one_shot, triangles,
+    triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
+use textbook::{textbook_rectangle_solid_angle, textbook_solid_angle};
 
 /// The minimum time per sample (ns) of each batch of `fs`, timed in turn
 /// (one after the other, round after round) `reps` times.

@@ -6,6 +6,10 @@
 //! cancellation, every step in `T`, plain `a·b − c·d` (no `mul_add`: on
 //! baseline x86-64 without FMA it calls libm's software `fma`).
 //!
+//! Also the textbook solid angles the one-shot `solid_angle_of` is timed
+//! against: Van Oosterom–Strackee for the triangle, Girard for the
+//! rectangle.
+//!
 //! UNVALIDATED: degenerate input (zero edges, collinear vertices, an
 //! observer in the light's plane) gives NaN or nonsense, and accuracy is
 //! that of the published algorithms (digits lost near the edges of the unit
@@ -45,6 +49,14 @@ fn angle_between<T: Real>(x: &Vec3<T>, y: &Vec3<T>) -> T {
 #[inline(always)]
 fn safe_sqrt<T: Real>(x: &T) -> T {
     x.max(&T::zero()).sqrt()
+}
+
+/// The interior angle `acos(−n_i·n_j)` at the edge shared by two
+/// consecutive planes with outward unit normals `n_i`, `n_j` (Girard's
+/// theorem sums these), the cosine clamped into `[−1, 1]`.
+#[inline(always)]
+fn interior_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> T {
+    (-a.dot(b)).clamp(&-T::one(), &T::one()).acos()
 }
 
 /// The unit part of `c` perpendicular to the unit vector `a`,
@@ -160,11 +172,10 @@ pub fn textbook_rectangle_sample<T: Real>(
     let n1 = unit(&v10.cross(&v11));
     let n2 = unit(&v11.cross(&v01));
     let n3 = unit(&v01.cross(&v00));
-    let interior = |a: &Vec3<T>, b: &Vec3<T>| (-a.dot(b)).clamp(&-T::one(), &T::one()).acos();
-    let g0 = interior(&n0, &n1);
-    let g1 = interior(&n1, &n2);
-    let g2 = interior(&n2, &n3);
-    let g3 = interior(&n3, &n0);
+    let g0 = interior_angle(&n0, &n1);
+    let g1 = interior_angle(&n1, &n2);
+    let g2 = interior_angle(&n2, &n3);
+    let g3 = interior_angle(&n3, &n0);
     let two_pi = T::pi() * &T::from_i64(2);
     let (b0, b1) = (n0.z.clone(), n2.z.clone());
     let k = two_pi - &g2 - &g3;
@@ -199,4 +210,43 @@ pub fn textbook_rectangle_sample<T: Real>(
     // cos θ_e = |z₀|/r: pdf_area = pdf |z₀| / r³.
     let pdf_area = pdf.clone() * &(-z0) / &(r2 * &r);
     (direction, point, pdf, pdf_area)
+}
+
+/// The solid angle as a renderer writes it without validation (pbrt-v4's
+/// `SphericalTriangleArea` after normalizing the directions; our own code):
+/// Van Oosterom–Strackee in `T`, `|2 atan2(a·(b × c), 1 + a·b + a·c + b·c)|`.
+#[inline]
+pub fn textbook_solid_angle<T: Real>(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> T {
+    let (a, b, c) = (unit(a), unit(b), unit(c));
+    let den = T::one() + &a.dot(&b) + &a.dot(&c) + &b.dot(&c);
+    (a.dot(&b.cross(&c)).atan2(&den) * &T::from_i64(2)).abs()
+}
+
+/// The solid angle of a rectangle as a renderer writes it without
+/// validation (Girard's theorem, as pbrt-v4's `SphericalQuadArea` and the
+/// paper's Appendix B; our own code): the unit normals of the four planes
+/// through the observer and an edge, the interior angles `acos(−n_i·n_j)`
+/// of consecutive planes, `|Σγ − 2π|`.
+#[inline]
+pub fn textbook_rectangle_solid_angle<T: Real>(
+    s: &Vec3<T>,
+    ex: &Vec3<T>,
+    ey: &Vec3<T>,
+    o: &Vec3<T>,
+) -> T {
+    let p0 = s.sub(o);
+    let p1 = p0.add(ex);
+    let p2 = p1.add(ey);
+    let p3 = p0.add(ey);
+    let n = [
+        unit(&p0.cross(&p1)),
+        unit(&p1.cross(&p2)),
+        unit(&p2.cross(&p3)),
+        unit(&p3.cross(&p0)),
+    ];
+    let sum = interior_angle(&n[3], &n[0])
+        + &interior_angle(&n[0], &n[1])
+        + &interior_angle(&n[1], &n[2])
+        + &interior_angle(&n[2], &n[3]);
+    (sum - &(T::pi() * &T::from_i64(2))).abs()
 }
