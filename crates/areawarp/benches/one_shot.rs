@@ -30,6 +30,11 @@
 //!   `… rectangle/f solid-angle-textbook`);
 //! - `build`: the full constructor per shading point, for reference.
 //!
+//! The sphere light (`sphere/f32`, `sphere/f64`): `per-sample`, `one-shot`
+//! (`SphereLight::sample_once`: the light sample with its point, distance
+//! and both densities) and `build`, over shading points 1.25–3.5 radii from
+//! the centre; no textbook reference.
+//!
 //! ```text
 //! cargo bench -p areawarp --bench one_shot -- --warm-up-time 1 --measurement-time 3
 //! ```
@@ -38,7 +43,7 @@
 //! ratios one-shot / per-sample are taken within one run.
 
 use areawarp::precision_choice::Mixed;
-use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::shapes::{SphereLight, SphericalRectangle, SphericalTriangle};
 use areawarp::{Real, Vec3, Warp};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -47,7 +52,8 @@ use std::hint::black_box;
 mod data;
 use data::{
     N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
-    rectangles, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
+    rectangles, sphere_one_shot, sphere_per_sample, spheres, triangle_one_shot,
+    triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -244,6 +250,29 @@ fn rectangle_mixed(c: &mut Criterion) {
     g.finish();
 }
 
+fn sphere_in<T: Real>(c: &mut Criterion, name: &str) {
+    let uv = batch::<T>();
+    let shapes = spheres::<T>();
+    let mut g = c.benchmark_group(format!("sphere/{name}"));
+    g.throughput(Throughput::Elements(N as u64));
+    let (centre, radius, o) = &shapes[0];
+    let light = SphereLight::new(centre.clone(), radius.clone(), o.clone()).unwrap();
+    g.bench_function("per-sample", |bch| {
+        bch.iter(|| sphere_per_sample(&light, &uv))
+    });
+    g.bench_function("one-shot", |bch| bch.iter(|| sphere_one_shot(&shapes, &uv)));
+    g.bench_function("build", |bch| {
+        bch.iter(|| {
+            shapes.iter().fold(T::zero(), |acc, (centre, radius, o)| {
+                let light =
+                    SphereLight::new(black_box(centre).clone(), radius.clone(), o.clone()).unwrap();
+                acc + &light.measure()
+            })
+        })
+    });
+    g.finish();
+}
+
 fn benches(c: &mut Criterion) {
     triangle_in::<f32>(c, "f32 robust");
     triangle_mixed(c);
@@ -251,6 +280,8 @@ fn benches(c: &mut Criterion) {
     rectangle_in::<f32>(c, "f32 robust");
     rectangle_mixed(c);
     rectangle_in::<f64>(c, "f64 robust");
+    sphere_in::<f32>(c, "f32");
+    sphere_in::<f64>(c, "f64");
 }
 
 criterion_group!(one_shot, benches);

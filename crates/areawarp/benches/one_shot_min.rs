@@ -1,5 +1,6 @@
 //! The one-shot / per-sample ratios of `benches/one_shot.rs` (robust
-//! spherical triangle and rectangle, `f32` and `f64`), measured so that a
+//! spherical triangle and rectangle, and the sphere light, `f32` and
+//! `f64`), measured so that a
 //! loaded machine does not blur them: the same batches of 256 shading
 //! points and `(u, v)`, the per-sample and one-shot batches timed
 //! alternately, and the minimum over many repetitions of each (preemption
@@ -32,7 +33,7 @@
 //! textbook one-shot / areawarp's per-sample time (what an unvalidated
 //! one-shot costs against the target of 2.5).
 
-use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::shapes::{SphereLight, SphericalRectangle, SphericalTriangle};
 use areawarp::{Real, Vec3};
 use std::hint::black_box;
 use std::time::Instant;
@@ -41,7 +42,8 @@ use std::time::Instant;
 mod data;
 use data::{
     N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
-    triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
+    sphere_one_shot, sphere_per_sample, spheres, triangle_one_shot, triangle_per_sample,
+    triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -79,13 +81,13 @@ fn report(what: &str, (per_sample, one_shot): (f64, f64)) {
 
 /// Builds the light of the first shading point with `build` and prints the
 /// minimum times of `per_sample` (that light) and `one_shot` (every point).
-fn measure<T: Real, S>(
+fn measure<T: Real, Sh, S>(
     name: &str,
     reps: usize,
-    shapes: &[[Vec3<T>; 4]],
-    build: impl Fn(&[Vec3<T>; 4]) -> S,
+    shapes: &[Sh],
+    build: impl Fn(&Sh) -> S,
     per_sample: impl Fn(&S, &[(T, T)]) -> T,
-    one_shot: impl Fn(&[[Vec3<T>; 4]], &[(T, T)]) -> T,
+    one_shot: impl Fn(&[Sh], &[(T, T)]) -> T,
 ) {
     let uv = batch::<T>();
     let light = build(&shapes[0]);
@@ -143,6 +145,26 @@ fn main() {
         rectangle,
         rectangle_per_sample,
         rectangle_one_shot,
+    );
+    fn sphere<T: Real>((c, r, o): &(Vec3<T>, T, Vec3<T>)) -> SphereLight<T> {
+        SphereLight::new(c.clone(), r.clone(), o.clone()).unwrap()
+    }
+    let (s32, s64) = (spheres::<f32>(), spheres::<f64>());
+    measure(
+        "sphere light f32",
+        reps,
+        &s32,
+        sphere,
+        sphere_per_sample,
+        sphere_one_shot,
+    );
+    measure(
+        "sphere light f64",
+        reps,
+        &s64,
+        sphere,
+        sphere_per_sample,
+        sphere_one_shot,
     );
     // The one-shot solid angle (no shape built) against the textbook
     // formula of the same quantity, unvalidated, in `T`.

@@ -3,7 +3,8 @@
 //! nearly coincident, nearly antipodal, nearly collinear vertices, seen from
 //! points at scales 1e-30 … 1e30) and spherical rectangles (observers 1e-6 …
 //! 1e-300 off the plane, elongated, scales 1e-30 … 1e30), built in `f32` and
-//! `f64`, robust and literal.
+//! `f64`, robust and literal; sphere lights (tiny cones, observers next to
+//! the surface, scales 1e-30 … 1e30) in `f32` and `f64`.
 //!
 //! Every constructor either returns a typed error or a shape whose samples at
 //! `u, v ∈ {0, smallest subnormal, 1e-7, ½, 1 − ulp, 1}` are finite, on the
@@ -18,7 +19,8 @@
 //! -- --ignored --nocapture` runs the large sizes.
 
 use areawarp::shapes::{
-    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+    SphereLight, SphericalRectangle, SphericalRectangleVariant, SphericalTriangle,
+    SphericalTriangleVariant,
 };
 use areawarp::warp::LightWarp;
 use areawarp::{Real, Vec3, Warp, WarpError};
@@ -167,6 +169,45 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
     }
 }
 
+fn run_sphere<T: Real>(case: &SphereCase, t: &mut Tally) {
+    t.tried += 1;
+    t.by_kind.entry(case.kind).or_default().0 += 1;
+    let (c, r, o) = (v3::<T>(&case.c), T::from_f64(case.r), v3::<T>(&case.o));
+    let w = match SphereLight::new(c.clone(), r.clone(), o.clone()) {
+        Ok(w) => w,
+        Err(e) => return t.reject(&e),
+    };
+    t.accepted += 1;
+    t.by_kind.entry(case.kind).or_default().1 += 1;
+    // The hit point c + r·n carries the rounding of c's coordinates.
+    let scale = c.norm().to_f64() + r.to_f64();
+    let extra = |u: &T, v: &T| {
+        let s = w.sample_light([u.clone(), v.clone()]);
+        if SphereLight::sample_once(&c, &r, &o, u, v).as_ref() != Ok(&s) {
+            return Some("sample_once differs from sample_light".to_string());
+        }
+        if !s.point.is_finite() || !s.distance.is_finite() || !(s.distance > T::zero()) {
+            return Some(format!("point {:?}, distance {}", s.point, s.distance));
+        }
+        // Zero only at the rim (u = 1), where the ray is tangent.
+        let rim = *u == T::one();
+        if !s.pdf_area.is_finite() || !(s.pdf_area > T::zero() || rim) {
+            return Some(format!("area density {}", s.pdf_area));
+        }
+        let p = s.point.sub(&c);
+        let off = (p.norm().to_f64() - r.to_f64()).abs();
+        if off > tolerance::<T>().to_f64() * scale {
+            return Some(format!("point {off:e} off the sphere"));
+        }
+        None
+    };
+    if let Some(why) = bad_sample(&w, extra, t) {
+        t.off_shape += 1;
+        t.by_kind.entry(case.kind).or_default().2 += 1;
+        t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
+    }
+}
+
 fn print(title: &str, tallies: &Tallies) {
     println!(
         "\n{title}: variant / scalar | tried | accepted | off the shape | max outside_by [u] | rejections"
@@ -252,6 +293,24 @@ fn fuzz_rectangles(cases: u32) -> Tallies {
     tallies.into_inner()
 }
 
+fn fuzz_spheres(cases: u32) -> Tallies {
+    let tallies = RefCell::new(Tallies::new());
+    let mut runner = runner(Config {
+        cases,
+        failure_persistence: None,
+        ..Config::default()
+    });
+    runner
+        .run(&sphere_case(), |case| {
+            let mut ts = tallies.borrow_mut();
+            run_sphere::<f32>(&case, ts.entry("robust f32".to_string()).or_default());
+            run_sphere::<f64>(&case, ts.entry("robust f64".to_string()).or_default());
+            Ok(())
+        })
+        .unwrap();
+    tallies.into_inner()
+}
+
 #[test]
 fn light_fuzz_triangles() {
     let t = fuzz_triangles(3000);
@@ -267,14 +326,24 @@ fn light_fuzz_rectangles() {
 }
 
 #[test]
+fn light_fuzz_spheres() {
+    let t = fuzz_spheres(3000);
+    print("sphere lights", &t);
+    assert_robust(&t);
+}
+
+#[test]
 #[ignore = "large fuzz: 10⁵ shapes per kind"]
 fn light_fuzz_large() {
     let t = fuzz_triangles(100_000);
     print("spherical triangles", &t);
     let r = fuzz_rectangles(100_000);
     print("spherical rectangles", &r);
+    let s = fuzz_spheres(100_000);
+    print("sphere lights", &s);
     assert_robust(&t);
     assert_robust(&r);
+    assert_robust(&s);
 }
 
 /// The cases quoted in issue 10: a rectangle seen from just off its plane.

@@ -2,7 +2,7 @@
 //! `one_shot_min.rs`. Whoever includes this module also includes
 //! `textbook_one_shot.rs` as `mod textbook` (the textbook batches).
 
-use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::shapes::{SphereLight, SphericalRectangle, SphericalTriangle};
 use areawarp::{LightWarp, Real, Vec3, Warp};
 use std::hint::black_box;
 
@@ -55,6 +55,21 @@ pub fn rectangles<T: Real>() -> Vec<[Vec3<T>; 4]> {
                 Vec3::from_f64(0.0, 0.8, 0.0),
                 Vec3::from_f64(2.0 * next() - 1.0, 2.0 * next() - 1.0, -next()),
             ]
+        })
+        .collect()
+}
+
+/// A sphere light (centre, radius) and shading points outside it, 1.25 to
+/// 3.5 radii from the centre (cones of 0.26 to 2.5 sr).
+pub fn spheres<T: Real>() -> Vec<(Vec3<T>, T, Vec3<T>)> {
+    let mut next = lcg(13);
+    (0..N)
+        .map(|_| {
+            (
+                Vec3::from_f64(0.1, -0.2, 1.5),
+                T::from_f64(0.5),
+                Vec3::from_f64(next() - 0.5, next() - 0.5, 0.9 - next()),
+            )
         })
         .collect()
 }
@@ -152,5 +167,35 @@ pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T
                 v,
             );
             fold(acc, &direction, &pdf) + &pdf_area + &point.x
+        })
+}
+
+/// One light sample's outputs folded: direction, pdf, area pdf, point and
+/// distance.
+#[inline(always)]
+fn fold_light<T: Real>(acc: T, smp: &areawarp::LightSample<T>) -> T {
+    fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x + &smp.distance
+}
+
+/// One batch of the sphere light `s` built once: a light sample per `(u, v)`.
+#[inline(always)]
+pub fn sphere_per_sample<T: Real>(s: &SphereLight<T>, uv: &[(T, T)]) -> T {
+    uv.iter().fold(T::zero(), |acc, (u, v)| {
+        fold_light(
+            acc,
+            &s.sample_light([black_box(u).clone(), black_box(v).clone()]),
+        )
+    })
+}
+
+/// One batch of one-shot light samples of the sphere light.
+#[inline(always)]
+pub fn sphere_one_shot<T: Real>(shapes: &[(Vec3<T>, T, Vec3<T>)], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ((c, r, o), (u, v))| {
+            let smp = SphereLight::sample_once(black_box(c), r, black_box(o), u, v).unwrap();
+            fold_light(acc, &smp)
         })
 }

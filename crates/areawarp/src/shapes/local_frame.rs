@@ -3,7 +3,6 @@
 //! cone, von Mises–Fisher, microfacet normals, sphere light, lune).
 
 use super::turns::positive;
-use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
 
@@ -31,18 +30,12 @@ pub(crate) fn unit_vector<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
 }
 
 impl<T: Real> LocalFrame<T> {
-    /// The frame about `axis` (normalized here), completed by Duff et al.
-    /// (2017), "Building an orthonormal basis, revisited": no cancellation,
-    /// branch-free apart from the sign of `z`.
-    ///
-    /// # Errors
-    /// [`WarpError::NonFinite`] / [`WarpError::Degenerate`] for a non-finite
-    /// or zero axis (`what` names it).
-    pub(crate) fn about(axis: &Vec3<T>, what: &'static str) -> Result<Self, WarpError> {
-        if !axis.is_finite() {
-            return Err(WarpError::NonFinite { what });
-        }
-        let a = unit_vector(axis).ok_or(WarpError::Degenerate { what })?;
+    /// The frame about the unit vector `a` (`|a| = 1` up to a few roundings;
+    /// not checked), completed by Duff et al. (2017), "Building an
+    /// orthonormal basis, revisited": no cancellation, branch-free apart
+    /// from the sign of `z`.
+    #[inline]
+    pub(crate) fn about_unit(a: Vec3<T>) -> Self {
         let one = T::one();
         let sign = one.copysign(&a.z);
         let s = -(one.clone() / &(sign.clone() + &a.z));
@@ -53,7 +46,7 @@ impl<T: Real> LocalFrame<T> {
             -(sign.clone() * &a.x),
         );
         let e2 = Vec3::new(c, sign + &(a.y.square() * &s), -a.y.clone());
-        Ok(LocalFrame { e1, e2, axis: a })
+        LocalFrame { e1, e2, axis: a }
     }
 
     /// `l.x·e1 + l.y·e2 + l.z·axis`.

@@ -5,6 +5,7 @@
 
 use super::local_frame::{LocalFrame, off_unit_sphere, one_minus_z, unit_vector};
 use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
+use super::wide::scale_exponent;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
@@ -73,7 +74,10 @@ pub struct SphereLight<T> {
     center: Vec3<T>,
     radius: T,
     observer: Vec3<T>,
+    /// d = |c − o| in units of 2^e (see `new`); `down` = 2^−e, `up` = 2^e.
     distance: T,
+    down: T,
+    up: T,
     frame: LocalFrame<T>,
     sin_max: T,
     cos_max: T,
@@ -99,6 +103,13 @@ impl<T: Real> SphereLight<T> {
     /// # Density
     /// `1/Ω` per steradian.
     pub fn new(center: Vec3<T>, radius: T, observer: Vec3<T>) -> Result<Self, WarpError> {
+        Self::build(center, radius, observer)
+    }
+
+    /// [`SphereLight::new`], inlined into [`SphereLight::sample_once`]: the
+    /// light is then never stored and read back.
+    #[inline(always)]
+    fn build(center: Vec3<T>, radius: T, observer: Vec3<T>) -> Result<Self, WarpError> {
         if !center.is_finite() {
             return Err(WarpError::NonFinite {
                 what: "sphere centre",
@@ -124,43 +135,66 @@ impl<T: Real> SphereLight<T> {
                 what: "centre − observer (overflow)",
             });
         }
-        let m = offset.max_abs();
-        let d = if positive(&m) {
-            offset.scale(&(T::one() / &m)).norm() * &m
-        } else {
-            T::zero()
-        };
-        if !d.is_finite() {
-            return Err(WarpError::NonFinite {
-                what: "distance to the centre (overflow)",
-            });
-        }
-        if !(d > radius) {
+        // Every length in units of 2^e, the power of two that brings the
+        // offset's largest coordinate into [1, 2) (exact: the same values
+        // at every scale, no overflow or underflow of d², (d − r)(d + r) or
+        // the distances' squares); the world's lengths are the local ones
+        // times 2^e.
+        let larger = |a: T, b: &T| if *b > a { b.clone() } else { a };
+        let m = larger(larger(offset.x.abs(), &offset.y.abs()), &offset.z.abs());
+        let e = scale_exponent::<T>(m.to_f64());
+        let (down, up) = (T::exp2i(-e), T::exp2i(e));
+        let off = offset.scale(&down);
+        let r = radius.clone() * &down;
+        let d = off.norm_squared().sqrt();
+        if !(d > r) {
             return Err(WarpError::InvalidParameter {
                 name: "observer",
                 expected: "a point outside the sphere (|centre − observer| > radius)",
             });
         }
-        let axis = unit_vector(&offset).ok_or(WarpError::Degenerate {
-            what: "observer at the centre",
-        })?;
-        let frame = LocalFrame::about(&axis, "sphere-light axis")?;
-        let sin_max = radius.clone() / &d;
-        let cos_max = ((d.clone() - &radius) * &(d.clone() + &radius)).sqrt() / &d;
+        if !(d.clone() * &up).is_finite() {
+            return Err(WarpError::NonFinite {
+                what: "distance to the centre (overflow)",
+            });
+        }
+        let inv_d = T::one() / &d;
+        let frame = LocalFrame::about_unit(off.scale(&inv_d));
+        let sin_max = r.clone() * &inv_d;
+        let near = d.clone() - &r;
+        let cos_max = (near.clone() * &(d.clone() + &r)).sqrt() * &inv_d;
         let h = sin_max.square() / &(T::one() + &cos_max);
         let pi = T::pi();
         let omega = pi.clone() * &T::from_i64(2) * &h;
         let inv_omega = T::one() / &omega;
-        if !positive(&omega) || !inv_omega.is_finite() {
+        if !(omega >= T::normal_floor()) || !inv_omega.is_finite() {
             return Err(WarpError::Degenerate {
                 what: "the sphere's solid angle underflows",
             });
         }
-        Ok(SphereLight {
+        // h(1 − u) ≥ h·u (the root at the rim, for u < 1) must stay normal.
+        if !(h >= T::normal_floor() / T::unit_roundoff()) {
+            return Err(WarpError::Unrepresentable {
+                what: "solid angle below the scalar type's range for the map (h·u underflows)",
+            });
+        }
+        // The density in area is largest at the nearest point (t = d − r,
+        // |n·ψ| = 1): 1/(Ω (d − r)²) in world units, at most max/16 (a
+        // margin for the sample's own roundings of the same value).
+        let range = || WarpError::Unrepresentable {
+            what: "density in area measure outside the scalar type's range",
+        };
+        let p_max = inv_omega.clone() / &near.square() * &down * &down;
+        if !p_max.is_finite_above(&T::zero()) || p_max > T::max_value() / T::from_i64(16) {
+            return Err(range());
+        }
+        let light = SphereLight {
             center,
             radius,
             observer,
             distance: d,
+            down,
+            up,
             frame,
             sin_max,
             cos_max,
@@ -169,7 +203,50 @@ impl<T: Real> SphereLight<T> {
             inv_omega,
             half_pi: pi.clone() / &T::from_i64(2),
             inv_two_pi: T::one() / &(pi * &T::from_i64(2)),
-        })
+        };
+        // It decreases towards the rim (0 at u = 1, where the ray is
+        // tangent); its smallest positive value, at the largest u below 1,
+        // must not underflow. That holds when 2^e ≤ 2^40 and
+        // cos θ_max ≥ 2^-32 in a type whose range exceeds 2^±100
+        // (`docs/sphere-light.md`, scale and cost); otherwise the sample
+        // there is evaluated.
+        let ordinary = e <= 40 && light.cos_max >= T::exp2i(-32) && T::max_value() >= T::exp2i(100);
+        if !ordinary {
+            let last = T::one() - &T::unit_roundoff();
+            if !(light.sample_hit(&last, &T::zero()).pdf_area >= T::normal_floor()) {
+                return Err(range());
+            }
+        }
+        Ok(light)
+    }
+
+    /// One light sample of the sphere of `center` and `radius` seen from
+    /// `observer`, without keeping a [`SphereLight`]: bit for bit
+    /// `SphereLight::new(center, radius, observer)?.sample_light([u, v])`,
+    /// what a renderer calls per shading point.
+    ///
+    /// # Errors
+    /// As [`SphereLight::new`].
+    ///
+    /// # Example
+    /// ```
+    /// use areawarp::shapes::SphereLight;
+    /// use areawarp::{LightWarp, Vec3};
+    /// let (c, o) = (Vec3::new(0.0f32, 0.0, 2.0), Vec3::new(0.0, 0.0, 0.0));
+    /// let once = SphereLight::sample_once(&c, &0.5, &o, &0.3, &0.7)?;
+    /// let light = SphereLight::new(c, 0.5, o)?;
+    /// assert_eq!(once, light.sample_light([0.3, 0.7]));
+    /// # Ok::<(), areawarp::WarpError>(())
+    /// ```
+    #[inline]
+    pub fn sample_once(
+        center: &Vec3<T>,
+        radius: &T,
+        observer: &Vec3<T>,
+        u: &T,
+        v: &T,
+    ) -> Result<LightSample<T>, WarpError> {
+        Ok(Self::build(center.clone(), radius.clone(), observer.clone())?.sample_hit(u, v))
     }
 
     /// The centre.
@@ -204,6 +281,7 @@ impl<T: Real> SphereLight<T> {
 
     /// ψ(u, v) with the first hit point on the sphere, its distance and
     /// both densities (see [`LightWarp::sample_light`]).
+    #[inline(always)]
     fn sample_hit(&self, u: &T, v: &T) -> LightSample<T> {
         let (u, v) = (clamp_unit(u), clamp_unit(v));
         let (_, sin_theta, cos_theta, (c, s)) = self.angles(&u, &v);
@@ -226,9 +304,14 @@ impl<T: Real> SphereLight<T> {
         // The ray parameter t = d cos θ − √(r² − d² sin²θ), without its
         // cancellation at the rim: t = d cos²θ_max/(cos θ + √(…)). The
         // cosine at the emitter |n·ψ| = cos(α + θ) = √(…)/sin θ_max.
-        let distance = self.distance.clone() * &self.cos_max.square() / &den;
+        // t and pdf_area = |n·ψ|/(Ω t²) with t in units of 2^e, then
+        // scaled to the world: 2^e t and ((…)·2^−e)·2^−e (each finite and
+        // normal for the densities `new` admits).
+        let t = self.distance.clone() * &self.cos_max.square() / &den;
         let cos_emitter = root / &self.sin_max;
-        let pdf_area = self.inv_omega.clone() * &cos_emitter / &distance.square();
+        let pdf_area =
+            self.inv_omega.clone() * &cos_emitter / &t.square() * &self.down * &self.down;
+        let distance = t * &self.up;
         LightSample {
             point: self.center.add(&n.scale(&self.radius)),
             direction,

@@ -84,6 +84,17 @@ pub(crate) fn floor_log2(x: f64) -> i32 {
     }
 }
 
+/// The exponent `e` such that `m·2^-e` is in `[1, 2)` (`m > 0`, given as
+/// `f64`), clamped so that `2^±e` is representable in `T` (±120 in `f32`,
+/// ±1016 in `f64`); 0 for a zero or non-finite `m` (no scaling). Scaling
+/// by `2^-e` is exact, away from underflow: the shapes that take their
+/// lengths to O(1) with it compute the same values at every scale.
+#[inline]
+pub(crate) fn scale_exponent<T: Real>(m: f64) -> i32 {
+    let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
+    floor_log2(m).clamp(-lim, lim)
+}
+
 /// `v / |v|`, `None` for the zero vector (or a non-finite one).
 ///
 /// One square root and one division when `|v|²` is neither tiny nor huge

@@ -2,7 +2,8 @@
 //! `light_fuzz.rs`, `one_shot.rs`, and `polygon_fuzz.rs` for the helpers): spherical triangles (random, nearly
 //! coincident, nearly antipodal, nearly collinear vertices, points at scales
 //! 1e-30 … 1e30) and spherical rectangles (observers 1e-6 … 1e-300 off the
-//! plane, elongated, scales 1e-30 … 1e30), and the values of `u`, `v` every
+//! plane, elongated, scales 1e-30 … 1e30), sphere lights (tiny cones,
+//! observers next to the surface, scales 1e-30 … 1e30), and the values of `u`, `v` every
 //! accepted shape is sampled at.
 #![allow(dead_code)] // each test crate uses a part
 
@@ -162,6 +163,42 @@ pub fn rectangle_case() -> impl Strategy<Value = RectangleCase> {
                 ex,
                 ey,
                 o: add(foot, scale(n, h * k)),
+            }
+        })
+}
+
+/// A sphere-light case: centre, radius, observer.
+#[derive(Clone, Debug)]
+pub struct SphereCase {
+    pub kind: &'static str,
+    pub c: [f64; 3],
+    pub r: f64,
+    pub o: [f64; 3],
+}
+
+/// Sphere lights seen from outside: `sin θ_max = r/d` random, tiny
+/// (10⁻³⁰ … 10⁻⁶: far away) or next to 1 (the observer 10⁻¹⁶ … 10⁻² of d
+/// above the surface), `d` at scales 10⁻³⁰ … 10³⁰, the observer at the
+/// origin or offset by up to 10⁴ d (the centre's rounding then dominates).
+pub fn sphere_case() -> impl Strategy<Value = SphereCase> {
+    (
+        direction(),
+        direction(),
+        prop_oneof![
+            (0.0f64..1.0).prop_map(|x| ("random", x)),
+            power(-30.0, -6.0).prop_map(|x| ("far", x)),
+            power(-16.0, -2.0).prop_map(|g| ("near the surface", 1.0 - g)),
+        ],
+        power(-30.0, 30.0),
+        prop_oneof![Just(0.0), power(-3.0, 4.0)],
+    )
+        .prop_map(|(dir, at, (kind, sin_max), d, offset)| {
+            let o = scale(normalize(at), offset * d);
+            SphereCase {
+                kind,
+                c: add(o, scale(normalize(dir), d)),
+                r: d * sin_max,
+                o,
             }
         })
 }

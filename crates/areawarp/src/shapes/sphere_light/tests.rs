@@ -126,6 +126,87 @@ fn sphere_light_hit_points_are_first_hits_on_the_sphere() {
     }
 }
 
+/// Scaling the centre, radius and observer by 2^k (exact) scales the
+/// sample's point and distance by exactly 2^k and its area density by
+/// 2^-2k, directions and the solid-angle density unchanged (the constructor
+/// works in units of the offset's power of two), in `f32` and `f64`, until
+/// the density in area leaves the type's range: then `new` says so. The
+/// old constructor (lengths in world units) accepted an `f64` sphere at
+/// 1e-200 with Ω = π/2 instead of 0.84 and an `f32` one at 1e-25 likewise,
+/// and rejected one at 1e200 as "solid angle underflows" (its solid angle
+/// is 0.84 sr; what leaves the range is its density in area).
+#[test]
+fn sphere_light_is_scale_free() {
+    fn check<T: Real>(ks: &[i32]) -> usize {
+        let mut accepted = 0;
+        for (name, p) in sphere_light_ladder() {
+            let at = |k: i32| {
+                let s = T::exp2i(k);
+                let q: Vec<T> = p.iter().map(|x| T::from_f64(*x) * &s).collect();
+                build(&q)
+            };
+            let base = at(0).unwrap();
+            for &k in ks {
+                let w = match at(k) {
+                    Ok(w) => w,
+                    Err(e) => {
+                        assert!(
+                            matches!(e, WarpError::Unrepresentable { .. }),
+                            "{name} 2^{k}: {e}"
+                        );
+                        continue;
+                    }
+                };
+                accepted += 1;
+                assert_eq!(w.measure(), base.measure(), "{name} 2^{k}");
+                let (up, down) = (T::exp2i(k), T::exp2i(-k));
+                for &u in &EXTREMES {
+                    for &v in &EXTREMES {
+                        let uv = [T::from_f64(u), T::from_f64(v)];
+                        let (a, b) = (base.sample_light(uv.clone()), w.sample_light(uv));
+                        assert_eq!(b.direction, a.direction, "{name} 2^{k} {u} {v}");
+                        assert_eq!(b.pdf, a.pdf);
+                        assert_eq!(b.point, a.point.scale(&up), "{name} 2^{k} {u} {v}");
+                        assert_eq!(b.distance, a.distance * &up);
+                        assert_eq!(
+                            b.pdf_area,
+                            a.pdf_area * &down * &down,
+                            "{name} 2^{k} {u} {v}"
+                        );
+                        let rim = T::from_f64(u) == T::one();
+                        assert!(
+                            b.pdf_area.is_finite() && (b.pdf_area > T::zero() || rim),
+                            "{name} 2^{k} {u} {v}: {:?}",
+                            b.pdf_area
+                        );
+                    }
+                }
+            }
+        }
+        accepted
+    }
+    // Every ladder shape at ±2^20 (5 shapes × 2), some beyond.
+    assert!(check::<f32>(&[-100, -60, -20, 20, 60, 100]) >= 10);
+    assert!(check::<f64>(&[-1000, -600, -200, 200, 600, 1000]) >= 10);
+    // Lengths of 1e-200 in f64 and 1e-25 in f32: the density in area
+    // (≈ 1e400 and 1e50 per unit area) is not representable.
+    let (c, o) = (Vec3::new(0.0, 0.0, 2e-200), Vec3::new(0.0, 0.0, 0.0));
+    assert!(matches!(
+        SphereLight::new(c, 1e-200, o),
+        Err(WarpError::Unrepresentable { .. })
+    ));
+    let (c, o) = (Vec3::new(0.0f32, 0.0, 2e-25), Vec3::new(0.0, 0.0, 0.0));
+    assert!(matches!(
+        SphereLight::new(c, 1e-25, o),
+        Err(WarpError::Unrepresentable { .. })
+    ));
+    // 1e140 in f64 is served, with the same Ω as at scale 1 (at 1e150 the
+    // density next to the rim, ≈ 1e-308, would leave the normal range).
+    let w = SphereLight::new(Vec3::new(0.0, 0.0, 2e140), 1e140, Vec3::new(0.0, 0.0, 0.0)).unwrap();
+    let one = SphereLight::new(Vec3::new(0.0, 0.0, 2.0), 1.0, Vec3::new(0.0, 0.0, 0.0)).unwrap();
+    assert_eq!(w.measure(), one.measure());
+}
+
 #[test]
 fn sphere_light_roundtrip_and_chi2() {
     for (name, _, w) in ladder() {

@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
 use crate::shapes::wide::{
-    check_finite, floor_log2, narrow3, plain_root_is_safe, unit_vector, widen3,
+    check_finite, narrow3, plain_root_is_safe, scale_exponent, unit_vector, widen3,
 };
 use crate::vector::Vec3;
 
@@ -271,10 +271,8 @@ impl<T: Real> Geometry<T> {
             &h_world,
         )
         .to_f64();
-        // 2^±lim is representable in T (±120 in f32, ±1016 in f64);
-        // `floor_log2` gives 0 for a zero or non-finite m (no scaling).
-        let lim = T::max_value().to_f64().log2().min(1024.0) as i32 - 8;
-        let e = floor_log2(m).clamp(-lim, lim);
+        // 0 for a zero or non-finite m (no scaling).
+        let e = scale_exponent::<T>(m);
         let scale = T::exp2i(-e);
         let x0 = x0w * &scale;
         let y0 = y0w * &scale;
