@@ -10,8 +10,10 @@
 //! `u, v ∈ {0, smallest subnormal, 1e-7, ½, 1 − ulp, 1}` are finite, on the
 //! shape by its own `outside_by` (within the on-shape tolerance `2^(−p/2)`
 //! its `inverse` uses), accepted by its own `inverse`, with a finite positive
-//! density (and, for the rectangle, a finite positive area density and a
-//! point on the rectangle). Counts of shapes tried / accepted / with a
+//! density, and whose light samples have a finite point at a finite positive
+//! distance with a finite positive area density (zero allowed at the sphere's
+//! rim) on the emitter: the triangle's plane (from points), the rectangle,
+//! the sphere. Counts of shapes tried / accepted / with a
 //! sample off the shape are printed per variant and scalar; the robust
 //! variants must have none off the shape.
 //!
@@ -125,7 +127,30 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
     };
     t.accepted += 1;
     t.by_kind.entry(case.kind).or_default().1 += 1;
-    if let Some(why) = bad_sample(&w, |_, _| None, t) {
+    // The light sample: a finite point at a finite positive distance, a
+    // finite positive area density; from points, the point on their plane.
+    let plane = case.observer.as_ref().map(|o| {
+        let rel = |p: &[f64; 3]| v3::<f64>(p).sub(&v3(o));
+        let [a, b, c] = [rel(&case.v[0]), rel(&case.v[1]), rel(&case.v[2])];
+        let n = b.sub(&a).cross(&c.sub(&a));
+        let n = n.scale(&(1.0 / n.norm()));
+        (a, n, v3::<f64>(o))
+    });
+    let extra = |u: &T, v: &T| {
+        let s = w.sample_light([u.clone(), v.clone()]);
+        if !s.point.is_finite() || !s.distance.is_finite_above(&T::zero()) {
+            return Some(format!("point {:?}, distance {}", s.point, s.distance));
+        }
+        if !s.pdf_area.is_finite_above(&T::zero()) {
+            return Some(format!("area density {}", s.pdf_area));
+        }
+        let (a, n, o) = plane.as_ref()?;
+        let p = s.point.convert::<f64>().sub(o);
+        let off = p.sub(a).dot(n).abs();
+        let scale = a.norm() + p.norm() + o.norm();
+        (off > tolerance::<T>().to_f64() * scale).then(|| format!("point {off:e} off the plane"))
+    };
+    if let Some(why) = bad_sample(&w, extra, t) {
         t.off_shape += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));

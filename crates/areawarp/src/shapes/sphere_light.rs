@@ -37,7 +37,10 @@ pub(crate) fn beyond_rim<T: Real>(w: &T, h: &T, sin_theta: &T, sin_max: &T) -> T
 /// at the centre between `n` and `−axis`.
 ///
 /// Numerics, from an observer 10⁻⁶ above the surface to a sphere of
-/// 10⁻⁸ sr far away:
+/// 10⁻⁸ sr far away, at any scale the type can hold the densities of:
+/// - every length in units of the offset's power of two (exact: the same
+///   directions and Ω at every scale; `docs/sphere-light.md`, scale and
+///   cost);
 /// - `cos θ_max = √((d − r)(d + r))/d` and `h = sin²θ_max/(1 + cos θ_max)`
 ///   (no `1 − cos θ_max`, which would lose every digit of a tiny cone);
 /// - the direction works with `1 − cos θ = u·h` and
@@ -98,10 +101,14 @@ impl<T: Real> SphereLight<T> {
     ///   observer inside or on the sphere (`|c − o| ≤ r`: there is no cone
     ///   of directions to sample; sample the whole sphere of directions
     ///   instead);
-    /// - [`WarpError::Degenerate`] if the cone's solid angle underflows.
+    /// - [`WarpError::Degenerate`] if the cone's solid angle underflows;
+    /// - [`WarpError::Unrepresentable`] if the type cannot hold what the
+    ///   map computes: a solid angle so small that `h·u` underflows, or a
+    ///   density in area (largest at the nearest point, smallest positive
+    ///   next to the rim) outside the normal range.
     ///
     /// # Density
-    /// `1/Ω` per steradian.
+    /// `1/Ω` per steradian; in area on the sphere `|n·ψ|/(Ω t²)`.
     pub fn new(center: Vec3<T>, radius: T, observer: Vec3<T>) -> Result<Self, WarpError> {
         Self::build(center, radius, observer)
     }

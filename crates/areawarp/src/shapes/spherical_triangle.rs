@@ -12,6 +12,7 @@
 mod build;
 mod ladder;
 mod literal;
+mod plane;
 mod recipe;
 mod robust;
 #[cfg(test)]
@@ -29,6 +30,7 @@ use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use build::{Anchor, Core, Scalars};
 use literal::Literal;
+use plane::Plane;
 use std::sync::{Arc, OnceLock};
 
 /// Which evaluation of Arvo's spherical-triangle map a [`SphericalTriangle`]
@@ -229,6 +231,9 @@ pub struct SphericalTriangle<T: Real> {
     /// Inward unit normals of the edge planes AB, BC, CA, computed on the
     /// first call of `outside_by`/`inverse`.
     normals: OnceLock<[Vec3<T>; 3]>,
+    /// The plane of the vertices as given, for `sample_light` (`None` for
+    /// vertex directions whose plane `T` cannot hold).
+    plane: Option<Plane<T>>,
     /// `true` if det(A, B, C) > 0 (counter-clockwise seen from outside).
     positive: bool,
     /// The published algorithm's constants (literal variant only).
@@ -293,14 +298,17 @@ impl<T: Real> SphericalTriangle<T> {
         variant: SphericalTriangleVariant,
     ) -> Result<Self, WarpError> {
         let core = build::core_of(&a, &b, &c)?;
-        Self::from_core(&core, [a, b, c], variant)
+        Self::from_core(&core, [a, b, c], variant, false)
     }
 
-    /// The triangle from its validated wide core.
+    /// The triangle from its validated wide core; `light`: the input are
+    /// points of an emitter, whose plane `T` must hold (else the plane is
+    /// optional, see [`SphericalTriangle::sample_light`](LightWarp::sample_light)).
     fn from_core(
         core: &Core<T::Wide>,
         input: [Vec3<T>; 3],
         variant: SphericalTriangleVariant,
+        light: bool,
     ) -> Result<Self, WarpError> {
         let two = <T::Wide as Real>::from_i64(2);
         let Scalars {
@@ -319,6 +327,11 @@ impl<T: Real> SphericalTriangle<T> {
         let literal = match variant {
             SphericalTriangleVariant::Literal => Some(Literal::new(&a, &b, &c)),
             SphericalTriangleVariant::Robust => None,
+        };
+        let plane = match Plane::new(&input, &inv_omega) {
+            Ok(p) => Some(p),
+            Err(e) if light => return Err(e),
+            Err(_) => None,
         };
         Ok(SphericalTriangle {
             variant,
@@ -340,6 +353,7 @@ impl<T: Real> SphericalTriangle<T> {
             one_plus_cos_b: T::narrow(&(core.v.p_ca.clone() / &two)),
             sin_b: T::narrow(&core.sin_b),
             normals: OnceLock::new(),
+            plane,
             wide: OnceLock::new(),
             positive: core.ccw,
             literal,
@@ -357,7 +371,11 @@ impl<T: Real> SphericalTriangle<T> {
     /// # Errors
     /// As [`SphericalTriangle::new`]; a point at the observer gives
     /// [`WarpError::Degenerate`] (zero vertex direction), a difference that
-    /// overflows [`WarpError::NonFinite`].
+    /// overflows [`WarpError::NonFinite`], and a triangle whose plane's
+    /// distances or densities in area `T` cannot hold (the light sample's
+    /// point, distance and `pdf_area`: points very far or very near at
+    /// either end of `T`'s range, or a plane through the observer's
+    /// neighbourhood) [`WarpError::Unrepresentable`].
     pub fn from_points(
         p0: Vec3<T>,
         p1: Vec3<T>,
@@ -365,7 +383,7 @@ impl<T: Real> SphericalTriangle<T> {
         observer: Vec3<T>,
     ) -> Result<Self, WarpError> {
         let (d, core) = Self::from_points_core(&p0, &p1, &p2, &observer)?;
-        let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust)?;
+        let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust, true)?;
         t.observer = observer;
         Ok(t)
     }
@@ -460,7 +478,9 @@ impl<T: Real> SphericalTriangle<T> {
     /// [`SphericalTriangle::from_points`]).
     ///
     /// # Errors
-    /// As [`SphericalTriangle::from_points`].
+    /// As [`SphericalTriangle::from_points`], except that the range of the
+    /// plane's distances and area densities (which this does not return)
+    /// is not checked.
     pub fn sample_once_from_points(
         p0: &Vec3<T>,
         p1: &Vec3<T>,
@@ -750,26 +770,29 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
         self.observer.clone()
     }
 
-    /// The direction ψ(u, v) and the point where it meets the planar
+    /// The direction ψ(u, v) and the point where it meets the plane of the
     /// triangle whose vertices the constructor was given (relative to the
-    /// observer): with `n = (B − A) × (C − A)`, the ray `t·d` meets the plane
-    /// at `t = det(A, B, C) / (d·n)`, and `|cos θ_e| = |d·n| / |n|`.
+    /// observer): with its unit normal `n̂` and distance `t₀ = |A·n̂|`, the
+    /// ray `t·d` meets it at `t = t₀/|d·n̂|`, where the density in area is
+    /// `pdf·|d·n̂|/t² = (pdf/t₀²)·|d·n̂|³` (constants computed by the
+    /// constructor). [`SphericalTriangle::from_points`] refuses a triangle
+    /// whose plane's distances or area densities `T` cannot hold; for vertex
+    /// directions given to [`SphericalTriangle::new`] that are so long or
+    /// short (or whose plane passes so close to the observer), the point is
+    /// the direction itself: on the unit sphere, distance 1, area density
+    /// equal to the density in solid angle.
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let d = self.map(&u, &v);
-        let [va, vb, vc] = &self.input;
-        let n = vb.sub(va).cross(&vc.sub(va));
-        let dn = d.dot(&n);
-        let t = (va.dot(&n) / &dn).abs();
-        let cos_e = dn.abs() / &n.norm();
-        let pdf = self.inv_omega.clone();
-        let pdf_area = pdf.clone() * &cos_e / &t.square();
-        LightSample {
-            point: self.observer.add(&d.scale(&t)),
-            direction: d,
-            distance: t,
-            pdf,
-            pdf_area,
+        match &self.plane {
+            Some(plane) => plane.sample(d, &self.inv_omega, &self.observer),
+            None => LightSample {
+                point: self.observer.add(&d),
+                direction: d,
+                distance: T::one(),
+                pdf: self.inv_omega.clone(),
+                pdf_area: self.inv_omega.clone(),
+            },
         }
     }
 }
