@@ -9,7 +9,8 @@
 //! `u, v ∈ {0, smallest subnormal, 1e-7, ½, 1 − ulp, 1}` (and 16 random
 //! points) are finite, on the polygon by its own `outside_by` (within its
 //! `on_shape_tolerance`), accepted by its own `inverse`, with a finite,
-//! non-negative density. Counts of shapes tried / accepted / with a bad
+//! non-negative density, and a light sample with a finite point, distance
+//! and area density. Counts of shapes tried / accepted / with a bad
 //! sample are printed per inversion and scalar; none may have a bad sample.
 //! An `f32` constructor may reject only what `f64` rejects on the same
 //! (rounded) values, or call the polygon unrepresentable in `f32` (issue
@@ -19,6 +20,7 @@
 //! (the large size: `-- --ignored --nocapture`).
 
 use areawarp::shapes::{MarginalInversion, ProjectedPolygon};
+use areawarp::warp::LightWarp;
 use areawarp::{Real, Vec3, Warp, WarpError};
 use proptest::test_runner::Config;
 use std::cell::RefCell;
@@ -99,6 +101,19 @@ fn bad_sample<T: Real>(
         };
         if let Some(why) = why {
             return Some(format!("{why} at u = {u:?}, v = {v:?}: {p:?}"));
+        }
+        // The light sample: a finite point at a finite positive distance
+        // and a finite area density (0 only next to the receiver's
+        // horizon, where the density in solid angle is below 2^-10 of its
+        // largest value).
+        let s = w.sample_light([u.clone(), v.clone()]);
+        let horizon = s.pdf < T::exp2i(-10) / &w.measure();
+        if !s.point.is_finite()
+            || !s.distance.is_finite_above(&T::zero())
+            || !s.pdf_area.is_finite()
+            || !(s.pdf_area > T::zero() || horizon)
+        {
+            return Some(format!("light sample {s:?} at u = {u:?}, v = {v:?}"));
         }
     }
     None

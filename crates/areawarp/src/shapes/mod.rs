@@ -5,6 +5,7 @@ mod concentric_disk;
 mod disk;
 mod ggx;
 mod hemisphere;
+mod light_plane;
 mod local_frame;
 mod phong;
 mod planar_triangle;

@@ -12,7 +12,6 @@
 mod build;
 mod ladder;
 mod literal;
-mod plane;
 mod recipe;
 mod robust;
 #[cfg(test)]
@@ -23,6 +22,7 @@ pub use recipe::SphericalTriangleRecipe;
 
 use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::light_plane::LightPlane;
 use crate::shapes::turns::clamp_unit;
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
@@ -30,7 +30,6 @@ use crate::warp::InverseError;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 use build::{Anchor, Core, Scalars};
 use literal::Literal;
-use plane::Plane;
 use std::sync::{Arc, OnceLock};
 
 /// Which evaluation of Arvo's spherical-triangle map a [`SphericalTriangle`]
@@ -233,7 +232,7 @@ pub struct SphericalTriangle<T: Real> {
     normals: OnceLock<[Vec3<T>; 3]>,
     /// The plane of the vertices as given, for `sample_light` (`None` for
     /// vertex directions whose plane `T` cannot hold).
-    plane: Option<Plane<T>>,
+    plane: Option<LightPlane<T>>,
     /// `true` if det(A, B, C) > 0 (counter-clockwise seen from outside).
     positive: bool,
     /// The published algorithm's constants (literal variant only).
@@ -328,7 +327,7 @@ impl<T: Real> SphericalTriangle<T> {
             SphericalTriangleVariant::Literal => Some(Literal::new(&a, &b, &c)),
             SphericalTriangleVariant::Robust => None,
         };
-        let plane = match Plane::new(&input, &inv_omega) {
+        let plane = match LightPlane::new(&input, &inv_omega, &inv_omega) {
             Ok(p) => Some(p),
             Err(e) if light => return Err(e),
             Err(_) => None,
@@ -784,15 +783,10 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let d = self.map(&u, &v);
+        let pdf = self.inv_omega.clone();
         match &self.plane {
-            Some(plane) => plane.sample(d, &self.inv_omega, &self.observer),
-            None => LightSample {
-                point: self.observer.add(&d),
-                direction: d,
-                distance: T::one(),
-                pdf: self.inv_omega.clone(),
-                pdf_area: self.inv_omega.clone(),
-            },
+            Some(plane) => plane.sample(d, pdf, &self.observer),
+            None => LightPlane::on_unit_sphere(d, pdf, &self.observer),
         }
     }
 }

@@ -5,6 +5,7 @@ use super::ProjectedPolygon;
 use super::geometry::Source;
 use crate::error::WarpError;
 use crate::real::Real;
+use crate::shapes::light_plane::LightPlane;
 use crate::vector::Vec3;
 use crate::warp::{LightSample, LightWarp, Warp, WarpFamily};
 
@@ -19,40 +20,36 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
     }
 
     /// The cosine-weighted direction ψ(u, v) and the point where it meets
-    /// the plane of the polygon's corners (relative to the observer; the
-    /// plane through their centroid with Newell's normal `n`, exact for a
-    /// planar polygon): `t = (n·c̄)/(n·d)`, `|cos θ_e| = |n·d|/|n|`. The
-    /// plane is computed here, not at construction, so that a sampler that
-    /// never asks for points does not pay for it.
+    /// the plane of the polygon's corners (relative to the observer): the
+    /// plane through their centroid with the normal of their fan of
+    /// triangles (exact for a planar polygon), `t = t₀/|d·n̂|`,
+    /// `|cos θ_e| = |d·n̂|` (`shapes/light_plane.rs`). The plane is made at
+    /// the first call, not at construction, so that a sampler that never
+    /// asks for points does not pay for it; for the same reason the
+    /// constructor does not refuse a polygon whose plane `T` cannot hold
+    /// (corners far beyond or below its range, or a plane through the
+    /// observer's neighbourhood): the point is then the direction itself, on
+    /// the unit sphere (distance 1, density in area equal to the density
+    /// in solid angle). Densities in area are normal from directions
+    /// `2^-10` (in cosine) above the receiver's horizon; nearer it they
+    /// may round to 0.
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let (d, pdf) = self.map_with_pdf(&u, &v);
-        let (corners, observer) = match &self.source {
-            Source::Points {
-                points, observer, ..
-            } => (points, observer.clone()),
-            Source::Directions(v) => (v, Vec3::zero()),
-        };
-        let k = corners.len();
-        let rel = |i: usize| corners[i % k].sub(&observer);
-        let mut n = Vec3::zero();
-        let mut centroid = Vec3::zero();
-        for i in 0..k {
-            let (p, q) = (rel(i), rel(i + 1));
-            n = n.add(&p.cross(&q));
-            centroid = centroid.add(&p);
-        }
-        let centroid = centroid.scale(&(T::one() / &T::from_i64(k as i64)));
-        let dn = d.dot(&n);
-        let t = (centroid.dot(&n) / &dn).abs();
-        let cos_e = dn.abs() / &n.norm();
-        let pdf_area = pdf.clone() * &cos_e / &t.square();
-        LightSample {
-            point: observer.add(&d.scale(&t)),
-            direction: d,
-            distance: t,
-            pdf,
-            pdf_area,
+        let observer = self.observer();
+        let plane = self.plane.get_or_init(|| {
+            let corners = match &self.source {
+                Source::Points { points, .. } => points,
+                Source::Directions(v) => v,
+            };
+            let rel: Vec<Vec3<T>> = corners.iter().map(|p| p.sub(&observer)).collect();
+            let pdf_max = T::one() / &self.measure;
+            let pdf_min = pdf_max.clone() * &T::exp2i(-10);
+            LightPlane::new(&rel, &pdf_max, &pdf_min).ok()
+        });
+        match plane {
+            Some(plane) => plane.sample(d, pdf, &observer),
+            None => LightPlane::on_unit_sphere(d, pdf, &observer),
         }
     }
 }

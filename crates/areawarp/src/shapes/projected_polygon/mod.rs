@@ -24,6 +24,7 @@ use super::turns::{atan2_by_atan, clamp_unit, on_shape_tolerance};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
+use crate::shapes::light_plane::LightPlane;
 use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
@@ -175,6 +176,9 @@ pub struct ProjectedPolygon<T: Real> {
     /// [`ProjectedPolygon::active`]; each fit at the first sample in its
     /// lune, [`ProjectedPolygon::fit`]).
     active: OnceLock<Vec<ActiveLune<T>>>,
+    /// The plane of the corners for `sample_light` (made at its first call;
+    /// `None` where `T` cannot hold it).
+    plane: OnceLock<Option<LightPlane<T>>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
@@ -371,6 +375,7 @@ impl<T: Real> ProjectedPolygon<T> {
             stored,
             narrowed: OnceLock::new(),
             active: OnceLock::new(),
+            plane: OnceLock::new(),
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),

@@ -1,0 +1,142 @@
+//! The plane of a planar emitter's corners as given (relative to the
+//! observer): where [`LightWarp::sample_light`](crate::warp::LightWarp::sample_light)
+//! of the spherical triangle and the projected polygon places the sampled
+//! direction, with its distance and its density in area.
+//!
+//! With the plane's unit normal `n̂` and its distance `t₀ = |c̄·n̂|` from the
+//! observer (`c̄` the corners' centroid), the ray along a unit direction `d`
+//! meets it at `t = t₀/|d·n̂|`, where the density in area is
+//! `pdf·|d·n̂|/t² = pdf·K·|d·n̂|³` with `K = 1/t₀²`. Over a convex emitter
+//! `|d·n̂|` lies between `c_min = t₀/max|V|` (its minimum is at the corner
+//! farthest from the observer) and 1. Everything is computed in
+//! [`Real::Wide`] from the corners scaled by a power of two (exact): the
+//! normal is the fan sum `Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀)` of short differences, no
+//! cross product overflows or underflows. Derivation:
+//! `docs/spherical-triangle.md` (the light sample).
+
+use crate::error::WarpError;
+use crate::real::Real;
+use crate::shapes::wide::{narrow3, scale_exponent, unit_vector, widen3};
+use crate::vector::Vec3;
+use crate::warp::LightSample;
+
+/// The plane's constants in `T`.
+#[derive(Clone, Debug)]
+pub(crate) struct LightPlane<T> {
+    /// `n̂`.
+    n: Vec3<T>,
+    /// `t₀` in units of `2^e`, and `2^e`.
+    t0: T,
+    up: T,
+    /// `K = 1/t₀²` (world units).
+    k: T,
+    /// `c_min`: rounded directions are held to it.
+    c_min: T,
+}
+
+fn unrepresentable() -> WarpError {
+    WarpError::Unrepresentable {
+        what: "density in area measure (or distance) of the emitter's plane outside the scalar type's range",
+    }
+}
+
+impl<T: Real> LightPlane<T> {
+    /// The plane of `corners` (relative to the observer, at least three;
+    /// `WarpError::Degenerate` if their normal vanishes) for densities in
+    /// solid angle between `pdf_min` and `pdf_max`: `Unrepresentable`
+    /// unless `T` holds the distances `t₀` (normal) and `max|V|` (finite)
+    /// and the densities in area, `pdf_max·K` to a sixteenth of `T`'s
+    /// largest value and `pdf_min·K·c_min³` sixteen times above its
+    /// smallest normal number (margins for the sample's roundings of the
+    /// same values).
+    pub fn new(corners: &[Vec3<T>], pdf_max: &T, pdf_min: &T) -> Result<Self, WarpError> {
+        type W<T> = <T as Real>::Wide;
+        let zero = W::<T>::zero();
+        let larger = |a: W<T>, b: &T| {
+            let b = b.widen().abs();
+            if b > a { b } else { a }
+        };
+        let m = corners.iter().fold(zero.clone(), |m, v| {
+            larger(larger(larger(m, &v.x), &v.y), &v.z)
+        });
+        let e = scale_exponent::<T>(m.to_f64());
+        let down = W::<T>::exp2i(-e);
+        let v: Vec<Vec3<W<T>>> = corners.iter().map(|p| widen3(p).scale(&down)).collect();
+        let mut sum = Vec3::zero();
+        let mut centroid = v[0].clone();
+        let mut far = v[0].dot(&v[0]);
+        for i in 1..v.len() {
+            if i + 1 < v.len() {
+                sum = sum.add(&v[i].sub(&v[0]).cross(&v[i + 1].sub(&v[0])));
+            }
+            centroid = centroid.add(&v[i]);
+            let q = v[i].dot(&v[i]);
+            if q > far {
+                far = q;
+            }
+        }
+        let n = unit_vector(&sum).ok_or(WarpError::Degenerate {
+            what: "the emitter's corners are collinear (no plane)",
+        })?;
+        let t0 = centroid.dot(&n).abs() / &W::<T>::from_i64(v.len() as i64);
+        let far = far.sqrt();
+        let c_min = t0.clone() / &far;
+        // K = 1/(t₀ 2^e)² as q·q, q = 2^−e/t₀.
+        let q = down / &t0;
+        let k = q.clone() * &q;
+        let p_min = pdf_min.widen() * &k * &c_min * &c_min * &c_min;
+        let plane = LightPlane {
+            n: narrow3::<T>(&n),
+            t0: T::narrow(&t0),
+            up: T::exp2i(e),
+            k: T::narrow(&k),
+            c_min: T::narrow(&c_min),
+        };
+        let sixteen = T::from_i64(16);
+        let in_range = (pdf_max.widen() * &k) <= (T::max_value() / &sixteen).widen()
+            && T::narrow(&p_min) >= T::normal_floor() * &sixteen
+            && (plane.t0.clone() * &plane.up) >= T::normal_floor()
+            && (T::narrow(&far) * &plane.up).is_finite()
+            && plane.c_min.is_finite_above(&T::zero());
+        if in_range {
+            Ok(plane)
+        } else {
+            Err(unrepresentable())
+        }
+    }
+
+    /// The light sample of the unit direction `d` (from the map) with
+    /// density `pdf` seen from `observer`.
+    #[inline]
+    pub fn sample(&self, d: Vec3<T>, pdf: T, observer: &Vec3<T>) -> LightSample<T> {
+        let c = d.dot(&self.n).abs();
+        // A rounded direction just outside the emitter is held to its
+        // edge's value (a NaN stays NaN).
+        let c = if c < self.c_min {
+            self.c_min.clone()
+        } else {
+            c
+        };
+        let t = self.t0.clone() / &c * &self.up;
+        LightSample {
+            point: observer.add(&d.scale(&t)),
+            direction: d,
+            distance: t,
+            pdf_area: pdf.clone() * &self.k * &c * &c * &c,
+            pdf,
+        }
+    }
+
+    /// The light sample of `d` with density `pdf` on the unit sphere around
+    /// `observer` (distance 1, density in area equal to `pdf`): for an
+    /// emitter given by directions whose plane `T` cannot hold.
+    pub fn on_unit_sphere(d: Vec3<T>, pdf: T, observer: &Vec3<T>) -> LightSample<T> {
+        LightSample {
+            point: observer.add(&d),
+            direction: d,
+            distance: T::one(),
+            pdf_area: pdf.clone(),
+            pdf,
+        }
+    }
+}
