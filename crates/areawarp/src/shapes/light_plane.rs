@@ -28,8 +28,10 @@ pub(crate) struct LightPlane<T> {
     /// `t₀` in units of `2^e`, and `2^e`.
     t0: T,
     up: T,
-    /// `K = 1/t₀²` (world units).
-    k: T,
+    /// `q = 1/t₀` (world units): `K = q²`, applied as `((pdf·q)·q)`, whose
+    /// intermediate lies between `pdf` and `pdf·K` (no spurious underflow
+    /// where `K` alone would leave `T`'s range).
+    q: T,
     /// `c_min`: rounded directions are held to it.
     c_min: T,
 }
@@ -44,8 +46,8 @@ impl<T: Real> LightPlane<T> {
     /// The plane of `corners` (relative to the observer, at least three;
     /// `WarpError::Degenerate` if their normal vanishes) for densities in
     /// solid angle between `pdf_min` and `pdf_max`: `Unrepresentable`
-    /// unless `T` holds the distances `t₀` (normal) and `max|V|` (finite)
-    /// and the densities in area, `pdf_max·K` to a sixteenth of `T`'s
+    /// unless `T` holds the distances `t₀` (normal) and `max|V|` (finite),
+    /// `1/t₀` (normal) and the densities in area, `pdf_max·K` to a sixteenth of `T`'s
     /// largest value and `pdf_min·K·c_min³` sixteen times above its
     /// smallest normal number (margins for the sample's roundings of the
     /// same values).
@@ -81,7 +83,7 @@ impl<T: Real> LightPlane<T> {
         let t0 = centroid.dot(&n).abs() / &W::<T>::from_i64(v.len() as i64);
         let far = far.sqrt();
         let c_min = t0.clone() / &far;
-        // K = 1/(t₀ 2^e)² as q·q, q = 2^−e/t₀.
+        // K = 1/(t₀ 2^e)² = q², q = 2^−e/t₀.
         let q = down / &t0;
         let k = q.clone() * &q;
         let p_min = pdf_min.widen() * &k * &c_min * &c_min * &c_min;
@@ -89,7 +91,7 @@ impl<T: Real> LightPlane<T> {
             n: narrow3::<T>(&n),
             t0: T::narrow(&t0),
             up: T::exp2i(e),
-            k: T::narrow(&k),
+            q: T::narrow(&q),
             c_min: T::narrow(&c_min),
         };
         let sixteen = T::from_i64(16);
@@ -97,6 +99,7 @@ impl<T: Real> LightPlane<T> {
             && T::narrow(&p_min) >= T::normal_floor() * &sixteen
             && (plane.t0.clone() * &plane.up) >= T::normal_floor()
             && (T::narrow(&far) * &plane.up).is_finite()
+            && plane.q.is_finite_above(&T::normal_floor())
             && plane.c_min.is_finite_above(&T::zero());
         if in_range {
             Ok(plane)
@@ -122,7 +125,7 @@ impl<T: Real> LightPlane<T> {
             point: observer.add(&d.scale(&t)),
             direction: d,
             distance: t,
-            pdf_area: pdf.clone() * &self.k * &c * &c * &c,
+            pdf_area: pdf.clone() * &self.q * &self.q * &c * &c * &c,
             pdf,
         }
     }
