@@ -63,24 +63,30 @@ impl<T: Real> LightPlane<T> {
         });
         let e = scale_exponent::<T>(m.to_f64());
         let down = W::<T>::exp2i(-e);
-        let v: Vec<Vec3<W<T>>> = corners.iter().map(|p| widen3(p).scale(&down)).collect();
+        // The corners scaled and widened as they are used (no allocation).
+        let at = |p: &Vec3<T>| widen3(p).scale(&down);
+        let v0 = at(&corners[0]);
         let mut sum = Vec3::zero();
-        let mut centroid = v[0].clone();
-        let mut far = v[0].dot(&v[0]);
-        for i in 1..v.len() {
-            if i + 1 < v.len() {
-                sum = sum.add(&v[i].sub(&v[0]).cross(&v[i + 1].sub(&v[0])));
-            }
-            centroid = centroid.add(&v[i]);
-            let q = v[i].dot(&v[i]);
+        let mut centroid = v0.clone();
+        let mut far = v0.dot(&v0);
+        let mut prev = at(&corners[1]).sub(&v0);
+        for (i, p) in corners.iter().enumerate().skip(1) {
+            let v = at(p);
+            let q = v.dot(&v);
             if q > far {
                 far = q;
             }
+            let edge = v.sub(&v0);
+            if i >= 2 {
+                sum = sum.add(&prev.cross(&edge));
+            }
+            centroid = centroid.add(&v);
+            prev = edge;
         }
         let n = unit_vector(&sum).ok_or(WarpError::Degenerate {
             what: "the emitter's corners are collinear (no plane)",
         })?;
-        let t0 = centroid.dot(&n).abs() / &W::<T>::from_i64(v.len() as i64);
+        let t0 = centroid.dot(&n).abs() / &W::<T>::from_i64(corners.len() as i64);
         let far = far.sqrt();
         let c_min = t0.clone() / &far;
         // K = 1/(t₀ 2^e)² = q², q = 2^−e/t₀.
