@@ -47,10 +47,10 @@ impl<T: Real> LightPlane<T> {
     /// `WarpError::Degenerate` if their normal vanishes) for densities in
     /// solid angle between `pdf_min` and `pdf_max`: `Unrepresentable`
     /// unless `T` holds the distances `t₀` (normal) and `max|V|` (finite),
-    /// `1/t₀` (normal) and the densities in area, `pdf_max·K` to a sixteenth of `T`'s
-    /// largest value and `pdf_min·K·c_min³` sixteen times above its
-    /// smallest normal number (margins for the sample's roundings of the
-    /// same values).
+    /// `1/t₀` (normal) and the densities in area, `pdf_max·K` to a
+    /// sixteenth of `T`'s largest value and `pdf_min·K·c_min³` sixteen
+    /// times above its smallest normal number (margins for the sample's
+    /// roundings of the same values).
     pub fn new(corners: &[Vec3<T>], pdf_max: &T, pdf_min: &T) -> Result<Self, WarpError> {
         type W<T> = <T as Real>::Wide;
         let zero = W::<T>::zero();
@@ -89,10 +89,12 @@ impl<T: Real> LightPlane<T> {
         let t0 = centroid.dot(&n).abs() / &W::<T>::from_i64(corners.len() as i64);
         let far = far.sqrt();
         let c_min = t0.clone() / &far;
-        // K = 1/(t₀ 2^e)² = q², q = 2^−e/t₀.
+        // K = 1/(t₀ 2^e)² = q², q = 2^−e/t₀, applied as the sample applies
+        // it, ((pdf·q)·q): K alone may leave even the wide type's range.
         let q = down / &t0;
-        let k = q.clone() * &q;
-        let p_min = pdf_min.widen() * &k * &c_min * &c_min * &c_min;
+        let density = |pdf: &T, c: &W<T>| pdf.widen() * &q * &q * c * c * c;
+        let p_max = density(pdf_max, &W::<T>::one());
+        let p_min = density(pdf_min, &c_min);
         let plane = LightPlane {
             n: narrow3::<T>(&n),
             t0: T::narrow(&t0),
@@ -101,7 +103,7 @@ impl<T: Real> LightPlane<T> {
             c_min: T::narrow(&c_min),
         };
         let sixteen = T::from_i64(16);
-        let in_range = (pdf_max.widen() * &k) <= (T::max_value() / &sixteen).widen()
+        let in_range = p_max <= (T::max_value() / &sixteen).widen()
             && T::narrow(&p_min) >= T::normal_floor() * &sixteen
             && (plane.t0.clone() * &plane.up) >= T::normal_floor()
             && (T::narrow(&far) * &plane.up).is_finite()
