@@ -236,15 +236,11 @@ impl Frame {
                 what: "zero or non-finite normal",
             },
         )?;
-        let sign = 1.0_f64.copysign(n.z);
-        let a = -1.0 / (sign + n.z);
-        let b = n.x * n.y * a;
-        let tangent = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-        let bitangent = Vec3::new(b, sign + n.y * n.y * a, -n.y);
+        let f = crate::shapes::local_frame::LocalFrame::about_unit(n);
         Ok(Frame {
-            tangent,
-            bitangent,
-            normal: n,
+            tangent: f.e1,
+            bitangent: f.e2,
+            normal: f.axis,
         })
     }
 

@@ -1,6 +1,6 @@
 //! A right-handed orthonormal frame about a unit axis, generic over the
-//! scalar: the local coordinates of the axially symmetric warps (uniform
-//! cone, von Mises–Fisher, microfacet normals, sphere light, lune).
+//! scalar (Duff et al. 2017): the local coordinates of the sphere light, the
+//! rotated sphere, the projected polygon's receiver and `vector::Frame`.
 
 use super::turns::positive;
 use crate::real::Real;

@@ -6,7 +6,7 @@ mod disk;
 mod ggx;
 mod hemisphere;
 mod light_plane;
-mod local_frame;
+pub(crate) mod local_frame;
 mod phong;
 mod planar_triangle;
 pub mod polygon_measures;

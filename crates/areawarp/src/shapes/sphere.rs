@@ -2,6 +2,7 @@
 //! (Shao & Badler 1996): `z = 1 − 2u`, `φ = 2πv`, optionally about a
 //! rotated (e.g. random) axis. Derivation: `docs/sphere.md`.
 
+use super::local_frame::LocalFrame;
 use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
@@ -21,8 +22,7 @@ struct Frame<T> {
 
 impl<T: Real> Frame<T> {
     /// Validates and normalizes `axis`, then completes it to a frame
-    /// (Duff et al. 2017, "Building an orthonormal basis, revisited":
-    /// branch-free apart from the sign of `z`, no cancellation).
+    /// ([`LocalFrame::about_unit`]: Duff et al. 2017).
     fn from_axis(axis: &Vec3<T>) -> Result<Self, WarpError> {
         if !axis.is_finite() {
             return Err(WarpError::NonFinite {
@@ -44,17 +44,8 @@ impl<T: Real> Frame<T> {
         );
         let n = b.norm();
         let a = Vec3::new(b.x / &n, b.y / &n, b.z / &n);
-        let one = T::one();
-        let sign = one.copysign(&a.z);
-        let s = -(one.clone() / &(sign.clone() + &a.z));
-        let c = a.x.clone() * &a.y * &s;
-        let e1 = Vec3::new(
-            one + &(sign.clone() * &a.x.square() * &s),
-            sign.clone() * &c,
-            -(sign.clone() * &a.x),
-        );
-        let e2 = Vec3::new(c, sign + &(a.y.square() * &s), -a.y.clone());
-        Ok(Frame { e1, e2, axis: a })
+        let LocalFrame { e1, e2, axis } = LocalFrame::about_unit(a);
+        Ok(Frame { e1, e2, axis })
     }
 
     /// `l.x·e1 + l.y·e2 + l.z·axis`, in any scalar the frame embeds into.

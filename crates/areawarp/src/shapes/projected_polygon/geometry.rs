@@ -22,41 +22,9 @@ pub(super) enum Source<T> {
     },
 }
 
-/// A right-handed orthonormal frame `(e1, e2, n)` with the receiver's
-/// normal `n` as local `+z`.
-#[derive(Clone, Debug)]
-pub(super) struct Frame<T> {
-    e1: Vec3<T>,
-    e2: Vec3<T>,
-    n: Vec3<T>,
-}
-
-impl<T: Real> Frame<T> {
-    /// Completes the unit normal `n` to a frame (Duff et al. 2017,
-    /// "Building an orthonormal basis, revisited").
-    pub(super) fn from_normal(n: Vec3<T>) -> Self {
-        let one = T::one();
-        let sign = one.copysign(&n.z);
-        let a = -(one.clone() / &(sign.clone() + &n.z));
-        let b = n.x.clone() * &n.y * &a;
-        let e1 = Vec3::new(
-            one + &(sign.clone() * &n.x.square() * &a),
-            sign.clone() * &b,
-            -(sign.clone() * &n.x),
-        );
-        let e2 = Vec3::new(b, sign + &(n.y.square() * &a), -n.y.clone());
-        Frame { e1, e2, n }
-    }
-    pub(super) fn to_local(&self, p: &Vec3<T>) -> Vec3<T> {
-        Vec3::new(p.dot(&self.e1), p.dot(&self.e2), p.dot(&self.n))
-    }
-    pub(super) fn to_world(&self, l: &Vec3<T>) -> Vec3<T> {
-        self.e1
-            .scale(&l.x)
-            .add(&self.e2.scale(&l.y))
-            .add(&self.n.scale(&l.z))
-    }
-}
+/// The frame `(e1, e2, n)` with the receiver's unit normal `n` as local
+/// `+z`: the axially symmetric warps' [`LocalFrame`] (Duff et al. 2017).
+pub(super) use crate::shapes::local_frame::LocalFrame as Frame;
 
 /// Euclidean distance from the unit vector `d` to the arc.
 pub(super) fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {

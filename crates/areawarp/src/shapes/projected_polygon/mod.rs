@@ -312,7 +312,7 @@ impl<T: Real> ProjectedPolygon<T> {
             }
             Err(e) => return Err(e),
         };
-        let frame = Frame::from_normal(n);
+        let frame = Frame::about_unit(n);
         let mut local = Vec::with_capacity(points.len());
         for p in points {
             if !p.is_finite() {
