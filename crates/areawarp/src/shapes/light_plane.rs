@@ -16,7 +16,7 @@
 
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::wide::{narrow3, scale_exponent, unit_vector, widen3};
+use crate::shapes::wide::{largest_abs, narrow3, scale_exponent, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::LightSample;
 
@@ -43,7 +43,8 @@ fn unrepresentable() -> WarpError {
 }
 
 impl<T: Real> LightPlane<T> {
-    /// The plane of `corners` (relative to the observer, at least three;
+    /// The plane of `corners` seen from `observer` (their differences,
+    /// formed in `T`, as the shapes give them; at least three corners;
     /// `WarpError::Degenerate` if their normal vanishes) for densities in
     /// solid angle between `pdf_min` and `pdf_max`: `Unrepresentable`
     /// unless `T` holds the distances `t₀` (normal) and `max|V|` (finite),
@@ -51,37 +52,39 @@ impl<T: Real> LightPlane<T> {
     /// sixteenth of `T`'s largest value and `pdf_min·K·c_min³` sixteen
     /// times above its smallest normal number (margins for the sample's
     /// roundings of the same values).
-    pub fn new(corners: &[Vec3<T>], pdf_max: &T, pdf_min: &T) -> Result<Self, WarpError> {
+    pub fn new(
+        corners: &[Vec3<T>],
+        observer: &Vec3<T>,
+        pdf_max: &T,
+        pdf_min: &T,
+    ) -> Result<Self, WarpError> {
         type W<T> = <T as Real>::Wide;
-        let zero = W::<T>::zero();
-        let larger = |a: W<T>, b: &T| {
-            let b = b.widen().abs();
-            if b > a { b } else { a }
-        };
-        let m = corners.iter().fold(zero.clone(), |m, v| {
-            larger(larger(larger(m, &v.x), &v.y), &v.z)
+        let rel = |p: &Vec3<T>| p.sub(observer);
+        let m = corners.iter().fold(T::zero(), |m, p| {
+            let a = largest_abs(&rel(p));
+            if a > m { a } else { m }
         });
         let e = scale_exponent::<T>(m.to_f64());
         let down = W::<T>::exp2i(-e);
-        // The corners scaled and widened as they are used (no allocation).
-        let at = |p: &Vec3<T>| widen3(p).scale(&down);
+        // Each corner scaled and widened once, as it is used.
+        let at = |p: &Vec3<T>| widen3(&rel(p)).scale(&down);
         let v0 = at(&corners[0]);
         let mut sum = Vec3::zero();
         let mut centroid = v0.clone();
         let mut far = v0.dot(&v0);
-        let mut prev = at(&corners[1]).sub(&v0);
-        for (i, p) in corners.iter().enumerate().skip(1) {
+        let mut prev: Option<Vec3<W<T>>> = None;
+        for p in &corners[1..] {
             let v = at(p);
             let q = v.dot(&v);
             if q > far {
                 far = q;
             }
             let edge = v.sub(&v0);
-            if i >= 2 {
+            if let Some(prev) = &prev {
                 sum = sum.add(&prev.cross(&edge));
             }
             centroid = centroid.add(&v);
-            prev = edge;
+            prev = Some(edge);
         }
         let n = unit_vector(&sum).ok_or(WarpError::Degenerate {
             what: "the emitter's corners are collinear (no plane)",

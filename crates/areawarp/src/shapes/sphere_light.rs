@@ -5,7 +5,7 @@
 
 use super::local_frame::{LocalFrame, off_unit_sphere, one_minus_z, unit_vector};
 use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
-use super::wide::scale_exponent;
+use super::wide::{largest_abs, scale_exponent};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
@@ -147,9 +147,7 @@ impl<T: Real> SphereLight<T> {
         // at every scale, no overflow or underflow of d², (d − r)(d + r) or
         // the distances' squares); the world's lengths are the local ones
         // times 2^e.
-        let larger = |a: T, b: &T| if *b > a { b.clone() } else { a };
-        let m = larger(larger(offset.x.abs(), &offset.y.abs()), &offset.z.abs());
-        let e = scale_exponent::<T>(m.to_f64());
+        let e = scale_exponent::<T>(largest_abs(&offset).to_f64());
         let (down, up) = (T::exp2i(-e), T::exp2i(e));
         let off = offset.scale(&down);
         let r = radius.clone() * &down;

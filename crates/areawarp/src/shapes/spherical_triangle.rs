@@ -327,7 +327,7 @@ impl<T: Real> SphericalTriangle<T> {
             SphericalTriangleVariant::Literal => Some(Literal::new(&a, &b, &c)),
             SphericalTriangleVariant::Robust => None,
         };
-        let plane = match LightPlane::new(&input, &inv_omega, &inv_omega) {
+        let plane = match LightPlane::new(&input, &Vec3::zero(), &inv_omega, &inv_omega) {
             Ok(p) => Some(p),
             Err(e) if light => return Err(e),
             Err(_) => None,

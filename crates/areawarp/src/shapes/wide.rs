@@ -84,6 +84,15 @@ pub(crate) fn floor_log2(x: f64) -> i32 {
     }
 }
 
+/// The largest absolute coordinate of the finite vector `v`, by
+/// comparisons (`Vec3::max_abs`'s NaN-aware maxima cost a dozen
+/// instructions each).
+#[inline]
+pub(crate) fn largest_abs<T: Real>(v: &Vec3<T>) -> T {
+    let larger = |a: T, b: T| if b > a { b } else { a };
+    larger(larger(v.x.abs(), v.y.abs()), v.z.abs())
+}
+
 /// The exponent `e` such that `m·2^-e` is in `[1, 2)` (`m > 0`, given as
 /// `f64`), clamped so that `2^±e` is representable in `T` (±120 in `f32`,
 /// ±1016 in `f64`); 0 for a zero or non-finite `m` (no scaling). Scaling

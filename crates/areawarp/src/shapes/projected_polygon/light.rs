@@ -42,10 +42,9 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
                 Source::Points { points, .. } => points,
                 Source::Directions(v) => v,
             };
-            let rel: Vec<Vec3<T>> = corners.iter().map(|p| p.sub(&observer)).collect();
             let pdf_max = T::one() / &self.measure;
             let pdf_min = pdf_max.clone() * &T::exp2i(-10);
-            LightPlane::new(&rel, &pdf_max, &pdf_min).ok()
+            LightPlane::new(corners, &observer, &pdf_max, &pdf_min).ok()
         });
         match plane {
             Some(plane) => plane.sample(d, pdf, &observer),
