@@ -28,7 +28,11 @@
 //!   reference for `solid-angle`
 //!   (`python3 scripts/criterion-ratios triangle/f solid-angle-textbook`,
 //!   `… rectangle/f solid-angle-textbook`);
-//! - `build`: the full constructor per shading point, for reference.
+//! - `build`: the full constructor per shading point, for reference;
+//! - `light per-sample`, `light one-shot` (triangle): the light sample of
+//!   the triangle of points (direction, point, distance, both densities),
+//!   `sample_light` of the built shape and `sample_light_once` (its plane
+//!   included).
 //!
 //! The sphere light (`sphere/f32`, `sphere/f64`): `per-sample`, `one-shot`
 //! (`SphereLight::sample_once`: the light sample with its point, distance
@@ -52,8 +56,9 @@ use std::hint::black_box;
 mod data;
 use data::{
     N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
-    rectangles, sphere_one_shot, sphere_per_sample, spheres, triangle_one_shot,
-    triangle_per_sample, triangle_textbook_one_shot, triangles,
+    rectangles, sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
+    triangle_light_per_sample, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot,
+    triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -82,6 +87,12 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
     });
     g.bench_function("one-shot-textbook", |bch| {
         bch.iter(|| triangle_textbook_one_shot(&shapes, &uv))
+    });
+    g.bench_function("light per-sample", |bch| {
+        bch.iter(|| triangle_light_per_sample(&t, &uv))
+    });
+    g.bench_function("light one-shot", |bch| {
+        bch.iter(|| triangle_light_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {

@@ -1,6 +1,7 @@
 //! The one-shot / per-sample ratios of `benches/one_shot.rs` (robust
-//! spherical triangle and rectangle, and the sphere light, `f32` and
-//! `f64`), measured so that a
+//! spherical triangle and rectangle, the sphere light and the triangle
+//! light's sample with point and area density, `f32` and `f64`), measured
+//! so that a
 //! loaded machine does not blur them: the same batches of 256 shading
 //! points and `(u, v)`, the per-sample and one-shot batches timed
 //! alternately, and the minimum over many repetitions of each (preemption
@@ -42,8 +43,9 @@ use std::time::Instant;
 mod data;
 use data::{
     N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
-    sphere_one_shot, sphere_per_sample, spheres, triangle_one_shot, triangle_per_sample,
-    triangle_textbook_one_shot, triangles,
+    sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
+    triangle_light_per_sample, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot,
+    triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -165,6 +167,24 @@ fn main() {
         sphere,
         sphere_per_sample,
         sphere_one_shot,
+    );
+    // The triangle as a light of points: the light sample (point,
+    // distance, area density) per sample and one-shot (the plane too).
+    measure(
+        "tri. light f32",
+        reps,
+        &t32,
+        triangle,
+        triangle_light_per_sample,
+        triangle_light_one_shot,
+    );
+    measure(
+        "tri. light f64",
+        reps,
+        &t64,
+        triangle,
+        triangle_light_per_sample,
+        triangle_light_one_shot,
     );
     // The one-shot solid angle (no shape built) against the textbook
     // formula of the same quantity, unvalidated, in `T`.

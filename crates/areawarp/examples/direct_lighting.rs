@@ -4,7 +4,9 @@
 //! the shadow ray, pdf in solid angle and in area), combined by multiple
 //! importance sampling with cosine-weighted hemisphere sampling, whose
 //! directions are tested against the lights with `pdf` (0 off the light)
-//! and mapped back to the light's unit square with `inverse`.
+//! and mapped back to the light's unit square with `inverse`; and the
+//! one-shot light samples (`sample_light_once`, `sample_once`) a renderer
+//! calls when it draws one sample per light and shading point.
 //!
 //! ```sh
 //! cargo run --release -p areawarp --example direct_lighting
@@ -121,6 +123,15 @@ fn main() {
         "rectangle sample: direction {:?}, point {:?}, distance {:.4}, pdf {:.4}/sr = {:.4}/m²",
         s.direction, s.point, s.distance, s.pdf, s.pdf_area
     );
+    // A renderer that draws one sample per light and shading point builds
+    // no shape: the one-shot paths compute what that sample needs, with the
+    // same bits.
+    let once = SphericalTriangle::sample_light_once(&tri[0], &tri[1], &tri[2], &o, &0.25, &0.75)
+        .expect("the triangle above");
+    assert_eq!(once, triangle.sample_light([0.25, 0.75]));
+    let once = SphericalRectangle::sample_once(&corner, &ex, &ey, &o, &0.25, &0.75)
+        .expect("the rectangle above");
+    assert_eq!(once, s);
     println!(
         "triangle:  irradiance {e_tri:.5} (exact {exact_tri:.5}, relative error {:.1e})",
         (e_tri / exact_tri - 1.0).abs()

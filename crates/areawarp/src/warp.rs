@@ -203,8 +203,16 @@ pub struct LightSample<T> {
 }
 
 /// A warp onto the directions towards an emitter seen from an observer
-/// (spherical triangle, spherical rectangle, projected polygon): it also
-/// places the sampled direction on the emitter.
+/// (spherical triangle, spherical rectangle, projected polygon, sphere
+/// light): it also places the sampled direction on the emitter.
+///
+/// A renderer that draws one sample per light and shading point need not
+/// build the shape: the one-shot light samples
+/// [`SphericalTriangle::sample_light_once`](crate::shapes::SphericalTriangle::sample_light_once),
+/// [`SphericalRectangle::sample_once`](crate::shapes::SphericalRectangle::sample_once) and
+/// [`SphereLight::sample_once`](crate::shapes::SphereLight::sample_once)
+/// return the same [`LightSample`], bit for bit, computing only what that
+/// sample needs.
 pub trait LightWarp<T: Real>: Warp<T, Point = Vec3<T>> {
     /// The observer (the shading point), world coordinates.
     fn observer(&self) -> Vec3<T>;

@@ -118,8 +118,9 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
     t.by_kind.entry(case.kind).or_default().0 += 1;
     let [a, b, c] = [v3::<T>(&case.v[0]), v3(&case.v[1]), v3(&case.v[2])];
     let built = match &case.observer {
-        None => SphericalTriangle::new_with(a, b, c, variant),
-        Some(o) => SphericalTriangle::from_points(a, b, c, v3(o)).map(|w| w.with_variant(variant)),
+        None => SphericalTriangle::new_with(a.clone(), b.clone(), c.clone(), variant),
+        Some(o) => SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), v3(o))
+            .map(|w| w.with_variant(variant)),
     };
     let w = match built {
         Ok(w) => w,
@@ -136,8 +137,15 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         let n = n.scale(&(1.0 / n.norm()));
         (a, n, v3::<f64>(o))
     });
+    let points = case.observer.as_ref().map(|o| [a, b, c, v3::<T>(o)]);
+    let robust = variant == SphericalTriangleVariant::Robust;
     let extra = |u: &T, v: &T| {
         let s = w.sample_light([u.clone(), v.clone()]);
+        if let (Some([a, b, c, o]), true) = (&points, robust)
+            && SphericalTriangle::sample_light_once(a, b, c, o, u, v).as_ref() != Ok(&s)
+        {
+            return Some("sample_light_once differs from sample_light".to_string());
+        }
         if !s.point.is_finite() || !s.distance.is_finite_above(&T::zero()) {
             return Some(format!("point {:?}, distance {}", s.point, s.distance));
         }
@@ -174,8 +182,13 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
     t.accepted += 1;
     t.by_kind.entry(case.kind).or_default().1 += 1;
     let scale = w.corner().norm() + &w.edge_x().norm() + &w.edge_y().norm();
+    let robust = variant == SphericalRectangleVariant::Robust;
+    let [s0, ex, ey, o] = [&case.s, &case.ex, &case.ey, &case.o].map(|x| v3::<T>(x));
     let extra = |u: &T, v: &T| {
         let s = w.sample_light([u.clone(), v.clone()]);
+        if robust && SphericalRectangle::sample_once(&s0, &ex, &ey, &o, u, v).as_ref() != Ok(&s) {
+            return Some("sample_once differs from sample_light".to_string());
+        }
         if !s.point.is_finite() {
             return Some("non-finite point".to_string());
         }

@@ -1,7 +1,9 @@
 //! The one-shot light paths against the shapes they stand for, over the
 //! random and near-degenerate shapes of the light fuzz (issue 10, item 4):
 //! `SphericalTriangle::sample_once{,_from_points}` against
-//! `new`/`from_points` + `map_with_pdf`, `SphericalRectangle::sample_once`
+//! `new`/`from_points` + `map_with_pdf`,
+//! `SphericalTriangle::sample_light_once` against `from_points` +
+//! `sample_light`, `SphericalRectangle::sample_once`
 //! against `new` + `sample_light`, and the one-shot solid angles against the
 //! shapes' `solid_angle`, in `f32` and `f64`, at the fuzz's values of `u`
 //! and `v`.
@@ -11,7 +13,7 @@
 //! the same error).
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
-use areawarp::warp::LightWarp;
+use areawarp::warp::{LightSample, LightWarp};
 use areawarp::{Real, Vec3, Warp};
 use proptest::test_runner::Config;
 use std::cell::RefCell;
@@ -29,6 +31,9 @@ struct Counts {
     /// One-shot samples of triangles `from_points` refuses for their
     /// plane alone (the one-shot returns no point or area density).
     plane_only: usize,
+    /// Light samples of points compared
+    /// (`SphericalTriangle::sample_light_once`).
+    light_samples: usize,
 }
 
 fn same<T: Real>(a: &T, b: &T) -> bool {
@@ -102,8 +107,36 @@ fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
                     once.err()
                 ),
             }
+            // The light sample of points checks the plane as the shape does.
+            if let Some(o) = &o {
+                let once = SphericalTriangle::sample_light_once(&a, &b, &c, o, u, v);
+                match (&built, once) {
+                    (Ok(t), Ok(x)) => {
+                        assert!(
+                            same_light(&x, &t.sample_light([u.clone(), v.clone()])),
+                            "{case:?} at ({u}, {v}): one-shot {x:?}"
+                        );
+                        n.light_samples += 1;
+                    }
+                    (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
+                    (built, once) => panic!(
+                        "{case:?} at ({u}, {v}): shape {:?}, light one-shot {:?}",
+                        built.as_ref().err(),
+                        once.err()
+                    ),
+                }
+            }
         }
     }
+}
+
+/// Bit for bit the same light sample (NaN equal to NaN).
+fn same_light<T: Real>(a: &LightSample<T>, b: &LightSample<T>) -> bool {
+    same3(&a.direction, &b.direction)
+        && same3(&a.point, &b.point)
+        && same(&a.distance, &b.distance)
+        && same(&a.pdf, &b.pdf)
+        && same(&a.pdf_area, &b.pdf_area)
 }
 
 fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
@@ -125,11 +158,7 @@ fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
                 (Ok(r), Ok(a)) => {
                     let b = r.sample_light([u.clone(), v.clone()]);
                     assert!(
-                        same3(&a.direction, &b.direction)
-                            && same3(&a.point, &b.point)
-                            && same(&a.distance, &b.distance)
-                            && same(&a.pdf, &b.pdf)
-                            && same(&a.pdf_area, &b.pdf_area),
+                        same_light(&a, &b),
                         "{case:?} at ({u}, {v}): one-shot {a:?}, shape {b:?}"
                     );
                     n.samples += 1;
@@ -166,7 +195,10 @@ fn one_shot_triangles_agree_with_the_shape() {
         .unwrap();
     let n = counts.into_inner();
     println!("triangles f32: {:?}\ntriangles f64: {:?}", n[0], n[1]);
-    assert!(n.iter().all(|c| c.accepted > 1000 && c.samples > 0));
+    assert!(
+        n.iter()
+            .all(|c| c.accepted > 1000 && c.samples > 0 && c.light_samples > 0)
+    );
 }
 
 #[test]

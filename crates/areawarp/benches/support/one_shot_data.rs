@@ -102,6 +102,32 @@ pub fn triangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
         })
 }
 
+/// One batch of the triangle light `t` (built by `from_points`) built once:
+/// a light sample (direction, point, distance, both densities) per `(u, v)`.
+#[inline(always)]
+pub fn triangle_light_per_sample<T: Real>(t: &SphericalTriangle<T>, uv: &[(T, T)]) -> T {
+    uv.iter().fold(T::zero(), |acc, (u, v)| {
+        fold_light(
+            acc,
+            &t.sample_light([black_box(u).clone(), black_box(v).clone()]),
+        )
+    })
+}
+
+/// One batch of one-shot light samples of the triangle
+/// (`sample_light_once`: the plane of the points included).
+#[inline(always)]
+pub fn triangle_light_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
+            let smp = SphericalTriangle::sample_light_once(black_box(a), b, c, black_box(o), u, v)
+                .unwrap();
+            fold_light(acc, &smp)
+        })
+}
+
 /// One batch of the rectangle `r` built once: a light sample per `(u, v)`.
 #[inline(always)]
 pub fn rectangle_per_sample<T: Real>(r: &SphericalRectangle<T>, uv: &[(T, T)]) -> T {

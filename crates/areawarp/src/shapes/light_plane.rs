@@ -52,6 +52,7 @@ impl<T: Real> LightPlane<T> {
     /// sixteenth of `T`'s largest value and `pdf_min·K·c_min³` sixteen
     /// times above its smallest normal number (margins for the sample's
     /// roundings of the same values).
+    #[inline(always)]
     pub fn new(
         corners: &[Vec3<T>],
         observer: &Vec3<T>,

@@ -12,6 +12,7 @@
 mod build;
 mod ladder;
 mod literal;
+mod one_shot;
 mod recipe;
 mod robust;
 #[cfg(test)]
@@ -172,7 +173,9 @@ fn clamp_keep_nan<T: Real>(x: &T) -> T {
 /// [`Warp::outside_by`] and [`Warp::inverse`] on their first use. Sampling
 /// one direction of a triangle used once (a renderer's shading point):
 /// [`SphericalTriangle::sample_once`], which builds only the anchor the
-/// sample needs; its solid angle alone: [`SphericalTriangle::solid_angle_of`].
+/// sample needs ([`SphericalTriangle::sample_light_once`] for a light
+/// sample of points: with the point, distance and density in area); its
+/// solid angle alone: [`SphericalTriangle::solid_angle_of`].
 ///
 /// # Example
 /// ```
@@ -439,89 +442,6 @@ impl<T: Real> SphericalTriangle<T> {
         }
         let core = Core::new(&d[0], &d[1], &d[2])?;
         Ok((d.map(|v| narrow3::<T>(&v)), core))
-    }
-
-    /// One sample of the triangle with vertex directions `a`, `b`, `c`
-    /// without building a [`SphericalTriangle`]: `(ψ(u, v), 1/Ω)` by the
-    /// robust map, bit for bit what
-    /// `SphericalTriangle::new(a, b, c)?.map_with_pdf(u, v)` returns, at the
-    /// cost of the validation, Ω and the one anchor (A or C) the sample
-    /// needs. What a renderer calls per shading point.
-    ///
-    /// # Errors
-    /// As [`SphericalTriangle::new`].
-    ///
-    /// # Example
-    /// ```
-    /// use areawarp::shapes::SphericalTriangle;
-    /// use areawarp::{Vec3, Warp};
-    /// let (a, b, c) = (Vec3::new(1.0f32, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0));
-    /// let (p, pdf) = SphericalTriangle::sample_once(&a, &b, &c, &0.3, &0.7)?;
-    /// let t = SphericalTriangle::new(a, b, c)?;
-    /// assert_eq!((p, pdf), t.map_with_pdf(&0.3, &0.7));
-    /// # Ok::<(), areawarp::WarpError>(())
-    /// ```
-    pub fn sample_once(
-        a: &Vec3<T>,
-        b: &Vec3<T>,
-        c: &Vec3<T>,
-        u: &T,
-        v: &T,
-    ) -> Result<(Vec3<T>, T), WarpError> {
-        let core = build::core_of(a, b, c)?;
-        Self::sample_core(&core, u, v)
-    }
-
-    /// [`SphericalTriangle::sample_once`] for the triangle the points `p0`,
-    /// `p1`, `p2` subtend from `observer` (as
-    /// [`SphericalTriangle::from_points`]).
-    ///
-    /// # Errors
-    /// As [`SphericalTriangle::from_points`], except that the range of the
-    /// plane's distances and area densities (which this does not return)
-    /// is not checked.
-    pub fn sample_once_from_points(
-        p0: &Vec3<T>,
-        p1: &Vec3<T>,
-        p2: &Vec3<T>,
-        observer: &Vec3<T>,
-        u: &T,
-        v: &T,
-    ) -> Result<(Vec3<T>, T), WarpError> {
-        let (_, core) = Self::from_points_core(p0, p1, p2, observer)?;
-        Self::sample_core(&core, u, v)
-    }
-
-    #[inline(always)]
-    fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
-        let Scalars {
-            inv_omega,
-            half_omega,
-            ..
-        } = Scalars::of(core)?;
-        let anchor = core
-            .anchor(robust::uses_anchor_a(&clamp_unit(u)))?
-            .narrow::<T>()
-            .ok_or_else(out_of_range)?;
-        let b = narrow3::<T>(&core.v.b);
-        let b_norm2 = build::norm2(&b);
-        Ok((
-            robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v),
-            inv_omega,
-        ))
-    }
-
-    /// The solid angle Ω of the triangle with vertex directions `a`, `b`,
-    /// `c` (Van Oosterom–Strackee, computed in [`Real::Wide`]) without
-    /// building a [`SphericalTriangle`]: equal to its
-    /// [`solid_angle`](SphericalTriangle::solid_angle). The density of its
-    /// samples is `1/Ω`.
-    ///
-    /// # Errors
-    /// As [`SphericalTriangle::new`], except that the range of the map's
-    /// per-sample constants is not checked.
-    pub fn solid_angle_of(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> Result<T, WarpError> {
-        build::solid_angle_of(a, b, c)
     }
 
     /// The same triangle evaluated with `variant`.
