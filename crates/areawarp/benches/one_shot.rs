@@ -32,7 +32,10 @@
 //! - `light per-sample`, `light one-shot` (triangle): the light sample of
 //!   the triangle of points (direction, point, distance, both densities),
 //!   `sample_light` of the built shape and `sample_light_once` (its plane
-//!   included).
+//!   included); `light one-shot-textbook`: Arvo's map unvalidated in `T`
+//!   with the ray's hit on the plane and the density in area
+//!   (`textbook_triangle_light_sample`), the parity reference for
+//!   `light one-shot`.
 //!
 //! The sphere light (`sphere/f32`, `sphere/f64`): `per-sample`, `one-shot`
 //! (`SphereLight::sample_once`: the light sample with its point, distance
@@ -57,8 +60,8 @@ mod data;
 use data::{
     N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
     rectangles, sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
-    triangle_light_per_sample, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot,
-    triangles,
+    triangle_light_per_sample, triangle_light_textbook_one_shot, triangle_one_shot,
+    triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -93,6 +96,9 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
     });
     g.bench_function("light one-shot", |bch| {
         bch.iter(|| triangle_light_one_shot(&shapes, &uv))
+    });
+    g.bench_function("light one-shot-textbook", |bch| {
+        bch.iter(|| triangle_light_textbook_one_shot(&shapes, &uv))
     });
     g.bench_function("solid-angle", |bch| {
         bch.iter(|| {

@@ -32,7 +32,9 @@
 //! outputs, with the per-sample batch timed in the same rotation: prints
 //! areawarp's one-shot, the textbook's, their ratio (parity at 1) and the
 //! textbook one-shot / areawarp's per-sample time (what an unvalidated
-//! one-shot costs against the target of 2.5).
+//! one-shot costs against the target of 2.5); the triangle light's
+//! textbook one-shot is Arvo's map with the ray's hit on the triangle's
+//! plane and the density in area (`textbook_triangle_light_sample`).
 
 use areawarp::shapes::{SphereLight, SphericalRectangle, SphericalTriangle};
 use areawarp::{Real, Vec3};
@@ -44,8 +46,8 @@ mod data;
 use data::{
     N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
     sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
-    triangle_light_per_sample, triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot,
-    triangles,
+    triangle_light_per_sample, triangle_light_textbook_one_shot, triangle_one_shot,
+    triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -272,6 +274,18 @@ fn main() {
     against_textbook("triangle f64", reps, &t64, triangle, tri64);
     against_textbook("rectangle f32", reps, &r32, rectangle, rect32);
     against_textbook("rectangle f64", reps, &r64, rectangle, rect64);
+    let light32 = (
+        triangle_light_per_sample,
+        triangle_light_one_shot,
+        triangle_light_textbook_one_shot,
+    );
+    let light64 = (
+        triangle_light_per_sample,
+        triangle_light_one_shot,
+        triangle_light_textbook_one_shot,
+    );
+    against_textbook("tri. light f32", reps, &t32, triangle, light32);
+    against_textbook("tri. light f64", reps, &t64, triangle, light64);
 }
 
 /// areawarp's one-shot against the textbook one-shot

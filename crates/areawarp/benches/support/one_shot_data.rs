@@ -173,6 +173,28 @@ pub fn triangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)
         })
 }
 
+/// One batch of textbook one-shot triangle light samples
+/// (`textbook::textbook_triangle_light_sample`) over the same shading points
+/// and `(u, v)` as [`triangle_light_one_shot`], folding the same outputs.
+#[inline(always)]
+pub fn triangle_light_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
+    shapes
+        .iter()
+        .zip(uv)
+        .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
+            let (direction, point, distance, pdf, pdf_area) =
+                crate::textbook::textbook_triangle_light_sample(
+                    black_box(a),
+                    b,
+                    c,
+                    black_box(o),
+                    u,
+                    v,
+                );
+            fold(acc, &direction, &pdf) + &pdf_area + &point.x + &distance
+        })
+}
+
 /// One batch of textbook one-shot rectangle samples
 /// (`textbook::textbook_rectangle_sample`) over the same shading points and
 /// `(u, v)` as [`rectangle_one_shot`], folding the same outputs (direction,

@@ -120,6 +120,33 @@ pub fn textbook_triangle_sample<T: Real>(
     (p, T::one() / &area)
 }
 
+/// [`textbook_triangle_sample`] as a triangle light's sample, the way a
+/// renderer completes it: the triangle of points `p0`, `p1`, `p2` seen from
+/// `o`, the direction `d` from Arvo's map, the point where the ray meets
+/// the triangle's plane (normal `n = (p1 − p0) × (p2 − p0)`, unnormalized:
+/// `t = ((p0 − o)·n)/(d·n)`), and the density in area
+/// `pdf·|d·n|/(|n| t²)`: `(direction, point, distance, pdf, pdf_area)`, the
+/// outputs of areawarp's `LightSample`. Unvalidated textbook code (see the
+/// module doc).
+#[inline(always)]
+pub fn textbook_triangle_light_sample<T: Real>(
+    p0: &Vec3<T>,
+    p1: &Vec3<T>,
+    p2: &Vec3<T>,
+    o: &Vec3<T>,
+    u: &T,
+    v: &T,
+) -> (Vec3<T>, Vec3<T>, T, T, T) {
+    let a = p0.sub(o);
+    let (d, pdf) = textbook_triangle_sample(&a, &p1.sub(o), &p2.sub(o), u, v);
+    let n = p1.sub(p0).cross(&p2.sub(p0));
+    let dn = d.dot(&n);
+    let t = a.dot(&n) / &dn;
+    let point = o.add(&d.scale(&t));
+    let pdf_area = pdf.clone() * &dn.abs() / &(n.dot(&n).sqrt() * &t.square());
+    (d, point, t, pdf, pdf_area)
+}
+
 /// Ureña, Fajardo and King's (2013) uniform sample of the solid angle of
 /// the rectangle with corner `s` and perpendicular edges `ex`, `ey`, seen
 /// from `o`: `(direction, point, pdf, pdf_area)` with the unit direction
