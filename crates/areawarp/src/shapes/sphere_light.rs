@@ -428,6 +428,7 @@ impl<T: Real> LightWarp<T> for SphereLight<T> {
     /// The direction ψ(u, v), the first hit `c + r·n` on the sphere, the
     /// distance `d cos²θ_max/(cos θ + √(sin²θ_max − sin²θ))` (no
     /// cancellation at the rim) and both densities.
+    #[inline]
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         self.sample_hit(&u, &v)

@@ -751,6 +751,7 @@ impl<T: Real> LightWarp<T> for SphericalRectangle<T> {
     /// M(u, v): the direction, the point `s + ξ e_x + η e_y` on the
     /// rectangle, its distance `r` from the observer, `1/Ω` and the density
     /// in area `cos θ_p / (Ω r²) = h / (Ω r³)`.
+    #[inline]
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         self.sample_full(&u, &v)

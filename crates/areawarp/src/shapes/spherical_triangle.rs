@@ -700,6 +700,7 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
     /// short (or whose plane passes so close to the observer), the point is
     /// the direction itself: on the unit sphere, distance 1, area density
     /// equal to the density in solid angle.
+    #[inline]
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let d = self.map(&u, &v);

@@ -33,6 +33,7 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
     /// in solid angle). Densities in area are normal from directions
     /// `2^-10` (in cosine) above the receiver's horizon; nearer it they
     /// may round to 0.
+    #[inline]
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let (d, pdf) = self.map_with_pdf(&u, &v);
