@@ -352,6 +352,7 @@ impl<T: Real> SphereLight<T> {
 impl<T: Real> Warp<T> for SphereLight<T> {
     type Point = Vec3<T>;
 
+    #[inline]
     fn map(&self, u: &T, v: &T) -> Vec3<T> {
         let (_, sin_theta, cos_theta, (c, s)) = self.angles(&clamp_unit(u), &clamp_unit(v));
         self.frame.to_world(&Vec3::new(

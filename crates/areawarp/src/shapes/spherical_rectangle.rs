@@ -365,29 +365,37 @@ impl<T: Real> SphericalRectangle<T> {
 
     /// M(u, v) with the point, its distance and both densities
     /// ([`LightWarp::sample_light`] by reference).
+    /// Inlined into the caller's loop (the robust map's constants stay in
+    /// registers); the literal variant's sample is a call.
+    #[inline]
     fn sample_full(&self, u: &T, v: &T) -> LightSample<T> {
         let (u, v) = (clamp_unit(u), clamp_unit(v));
         match &self.literal {
             None => self.sample_robust(&u, &v),
-            Some(lit) => {
-                let point = lit.point(&u, &v);
-                let offset = point.sub(lit.observer());
-                let r2 = offset.norm_squared();
-                let r = r2.sqrt();
-                let direction = if r.is_finite_above(&T::zero()) {
-                    offset.scale(&(T::one() / &r))
-                } else {
-                    self.geometry.zhat.neg()
-                };
-                let pdf_area = self.geometry.h_world.clone() * &self.inv_omega / &(r2 * &r);
-                LightSample {
-                    point,
-                    direction,
-                    distance: r,
-                    pdf: self.inv_omega.clone(),
-                    pdf_area,
-                }
-            }
+            Some(lit) => self.sample_literal(lit, &u, &v),
+        }
+    }
+
+    /// [`SphericalRectangle::sample_full`] of the literal variant (`u`, `v`
+    /// clamped).
+    #[inline(never)]
+    fn sample_literal(&self, lit: &Literal<T>, u: &T, v: &T) -> LightSample<T> {
+        let point = lit.point(u, v);
+        let offset = point.sub(lit.observer());
+        let r2 = offset.norm_squared();
+        let r = r2.sqrt();
+        let direction = if r.is_finite_above(&T::zero()) {
+            offset.scale(&(T::one() / &r))
+        } else {
+            self.geometry.zhat.neg()
+        };
+        let pdf_area = self.geometry.h_world.clone() * &self.inv_omega / &(r2 * &r);
+        LightSample {
+            point,
+            direction,
+            distance: r,
+            pdf: self.inv_omega.clone(),
+            pdf_area,
         }
     }
 
