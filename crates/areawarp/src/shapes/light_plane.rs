@@ -25,9 +25,10 @@ use crate::warp::LightSample;
 pub(crate) struct LightPlane<T> {
     /// `n̂`.
     n: Vec3<T>,
-    /// `t₀` in units of `2^e`, and `2^e`.
+    /// `t₀` in world units: the scaled `t₀` times `2^e` (exact; the
+    /// constructor checks it is normal), so that a sample's distance is one
+    /// quotient `t₀/|d·n̂|`.
     t0: T,
-    up: T,
     /// `q = 1/t₀` (world units): `K = q²`, applied as `((pdf·q)·q)`, whose
     /// intermediate lies between `pdf` and `pdf·K` (no spurious underflow
     /// where `K` alone would leave `T`'s range).
@@ -99,18 +100,18 @@ impl<T: Real> LightPlane<T> {
         let density = |pdf: &T, c: &W<T>| pdf.widen() * &q * &q * c * c * c;
         let p_max = density(pdf_max, &W::<T>::one());
         let p_min = density(pdf_min, &c_min);
+        let up = T::exp2i(e);
         let plane = LightPlane {
             n: narrow3::<T>(&n),
-            t0: T::narrow(&t0),
-            up: T::exp2i(e),
+            t0: T::narrow(&t0) * &up,
             q: T::narrow(&q),
             c_min: T::narrow(&c_min),
         };
         let sixteen = T::from_i64(16);
         let in_range = p_max <= (T::max_value() / &sixteen).widen()
             && T::narrow(&p_min) >= T::normal_floor() * &sixteen
-            && (plane.t0.clone() * &plane.up) >= T::normal_floor()
-            && (T::narrow(&far) * &plane.up).is_finite()
+            && plane.t0 >= T::normal_floor()
+            && (T::narrow(&far) * &up).is_finite()
             && plane.q.is_finite_above(&T::normal_floor())
             && plane.c_min.is_finite_above(&T::zero());
         if in_range {
@@ -132,7 +133,7 @@ impl<T: Real> LightPlane<T> {
         } else {
             c
         };
-        let t = self.t0.clone() / &c * &self.up;
+        let t = self.t0.clone() / &c;
         LightSample {
             point: observer.add(&d.scale(&t)),
             direction: d,

@@ -691,8 +691,9 @@ impl<T: Real> LightWarp<T> for SphericalTriangle<T> {
 
     /// The direction ψ(u, v) and the point where it meets the plane of the
     /// triangle whose vertices the constructor was given (relative to the
-    /// observer): with its unit normal `n̂` and distance `t₀ = |A·n̂|`, the
-    /// ray `t·d` meets it at `t = t₀/|d·n̂|`, where the density in area is
+    /// observer): with its unit normal `n̂` and distance `t₀ = |c̄·n̂|` (`c̄`
+    /// the vertices' centroid), the ray `t·d` meets it at `t = t₀/|d·n̂|`,
+    /// where the density in area is
     /// `pdf·|d·n̂|/t² = (pdf/t₀²)·|d·n̂|³` (constants computed by the
     /// constructor). [`SphericalTriangle::from_points`] refuses a triangle
     /// whose plane's distances or area densities `T` cannot hold; for vertex
