@@ -16,7 +16,7 @@
 
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::wide::{largest_abs, narrow3, scale_exponent, unit_vector, widen3};
+use crate::shapes::wide::{larger, largest_abs, narrow3, scale_exponent, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::LightSample;
 
@@ -62,10 +62,9 @@ impl<T: Real> LightPlane<T> {
     ) -> Result<Self, WarpError> {
         type W<T> = <T as Real>::Wide;
         let rel = |p: &Vec3<T>| p.sub(observer);
-        let m = corners.iter().fold(T::zero(), |m, p| {
-            let a = largest_abs(&rel(p));
-            if a > m { a } else { m }
-        });
+        let m = corners
+            .iter()
+            .fold(T::zero(), |m, p| larger(m, largest_abs(&rel(p))));
         let e = scale_exponent::<T>(m.to_f64());
         let down = W::<T>::exp2i(-e);
         // Each corner scaled and widened once, as it is used.

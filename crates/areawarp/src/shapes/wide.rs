@@ -84,12 +84,18 @@ pub(crate) fn floor_log2(x: f64) -> i32 {
     }
 }
 
+/// The larger of `a` and `b` by one comparison (`b` if `b > a`, else `a`):
+/// for values known to be finite, where [`Real::max`]'s NaN handling costs
+/// a dozen instructions per call.
+#[inline(always)]
+pub(crate) fn larger<T: Real>(a: T, b: T) -> T {
+    if b > a { b } else { a }
+}
+
 /// The largest absolute coordinate of the finite vector `v`, by
-/// comparisons (`Vec3::max_abs`'s NaN-aware maxima cost a dozen
-/// instructions each).
+/// comparisons ([`larger`]; `Vec3::max_abs` takes NaN-aware maxima).
 #[inline]
 pub(crate) fn largest_abs<T: Real>(v: &Vec3<T>) -> T {
-    let larger = |a: T, b: T| if b > a { b } else { a };
     larger(larger(v.x.abs(), v.y.abs()), v.z.abs())
 }
 

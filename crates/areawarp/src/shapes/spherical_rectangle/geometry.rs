@@ -7,7 +7,7 @@ use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
 use crate::shapes::wide::{
-    check_finite, narrow3, plain_root_is_safe, scale_exponent, unit_vector, widen3,
+    check_finite, larger, narrow3, plain_root_is_safe, scale_exponent, unit_vector, widen3,
 };
 use crate::vector::Vec3;
 
@@ -262,14 +262,16 @@ impl<T: Real> Geometry<T> {
         // Scale the local lengths by a power of two (exactly) so that the
         // largest is in [1, 2): squares and products of four lengths then
         // neither overflow nor underflow in f32.
-        // By comparisons: `max` pays a dozen instructions per call for its
-        // NaN handling, and a NaN here (from an overflowed s − o) makes Ω
-        // NaN and the shape rejected whatever the scale.
-        let larger = |a: T, b: &T| if *b > a { b.clone() } else { a };
-        let m = larger(
-            larger(larger(larger(x0w.abs(), &y0w.abs()), &lx_world), &ly_world),
-            &h_world,
-        )
+        // By comparisons ([`larger`]): a NaN here (from an overflowed
+        // s − o) makes Ω NaN and the shape rejected whatever the scale.
+        let m = [
+            y0w.abs(),
+            lx_world.clone(),
+            ly_world.clone(),
+            h_world.clone(),
+        ]
+        .into_iter()
+        .fold(x0w.abs(), larger)
         .to_f64();
         // 0 for a zero or non-finite m (no scaling).
         let e = scale_exponent::<T>(m);
