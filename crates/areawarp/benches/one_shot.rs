@@ -58,10 +58,10 @@ use std::hint::black_box;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, fold, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot,
-    rectangles, sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
-    triangle_light_per_sample, triangle_light_textbook_one_shot, triangle_one_shot,
-    triangle_per_sample, triangle_textbook_one_shot, triangles,
+    N, batch, fold, light_per_sample, rectangle_one_shot, rectangle_per_sample,
+    rectangle_textbook_one_shot, rectangles, sphere_one_shot, spheres, triangle_light_one_shot,
+    triangle_light_textbook_one_shot, triangle_one_shot, triangle_per_sample,
+    triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -92,7 +92,7 @@ fn triangle_in<T: Real>(c: &mut Criterion, name: &str) {
         bch.iter(|| triangle_textbook_one_shot(&shapes, &uv))
     });
     g.bench_function("light per-sample", |bch| {
-        bch.iter(|| triangle_light_per_sample(&t, &uv))
+        bch.iter(|| light_per_sample(&t, &uv))
     });
     g.bench_function("light one-shot", |bch| {
         bch.iter(|| triangle_light_one_shot(&shapes, &uv))
@@ -275,7 +275,7 @@ fn sphere_in<T: Real>(c: &mut Criterion, name: &str) {
     let (centre, radius, o) = &shapes[0];
     let light = SphereLight::new(centre.clone(), radius.clone(), o.clone()).unwrap();
     g.bench_function("per-sample", |bch| {
-        bch.iter(|| sphere_per_sample(&light, &uv))
+        bch.iter(|| light_per_sample(&light, &uv))
     });
     g.bench_function("one-shot", |bch| bch.iter(|| sphere_one_shot(&shapes, &uv)));
     g.bench_function("build", |bch| {

@@ -44,10 +44,10 @@ use std::time::Instant;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, rectangle_one_shot, rectangle_per_sample, rectangle_textbook_one_shot, rectangles,
-    sphere_one_shot, sphere_per_sample, spheres, triangle_light_one_shot,
-    triangle_light_per_sample, triangle_light_textbook_one_shot, triangle_one_shot,
-    triangle_per_sample, triangle_textbook_one_shot, triangles,
+    N, batch, light_per_sample, rectangle_one_shot, rectangle_per_sample,
+    rectangle_textbook_one_shot, rectangles, sphere_one_shot, spheres, triangle_light_one_shot,
+    triangle_light_textbook_one_shot, triangle_one_shot, triangle_per_sample,
+    triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -159,7 +159,7 @@ fn main() {
         reps,
         &s32,
         sphere,
-        sphere_per_sample,
+        light_per_sample,
         sphere_one_shot,
     );
     measure(
@@ -167,7 +167,7 @@ fn main() {
         reps,
         &s64,
         sphere,
-        sphere_per_sample,
+        light_per_sample,
         sphere_one_shot,
     );
     // The triangle as a light of points: the light sample (point,
@@ -177,7 +177,7 @@ fn main() {
         reps,
         &t32,
         triangle,
-        triangle_light_per_sample,
+        light_per_sample,
         triangle_light_one_shot,
     );
     measure(
@@ -185,7 +185,7 @@ fn main() {
         reps,
         &t64,
         triangle,
-        triangle_light_per_sample,
+        light_per_sample,
         triangle_light_one_shot,
     );
     // The one-shot solid angle (no shape built) against the textbook
@@ -275,12 +275,12 @@ fn main() {
     against_textbook("rectangle f32", reps, &r32, rectangle, rect32);
     against_textbook("rectangle f64", reps, &r64, rectangle, rect64);
     let light32 = (
-        triangle_light_per_sample,
+        light_per_sample,
         triangle_light_one_shot,
         triangle_light_textbook_one_shot,
     );
     let light64 = (
-        triangle_light_per_sample,
+        light_per_sample,
         triangle_light_one_shot,
         triangle_light_textbook_one_shot,
     );

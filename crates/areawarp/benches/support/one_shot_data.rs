@@ -102,14 +102,15 @@ pub fn triangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
         })
 }
 
-/// One batch of the triangle light `t` (built by `from_points`) built once:
-/// a light sample (direction, point, distance, both densities) per `(u, v)`.
+/// One batch of the light `light` (a triangle built by `from_points`, a
+/// sphere light) built once: a light sample (direction, point, distance,
+/// both densities) per `(u, v)`.
 #[inline(always)]
-pub fn triangle_light_per_sample<T: Real>(t: &SphericalTriangle<T>, uv: &[(T, T)]) -> T {
+pub fn light_per_sample<T: Real, L: LightWarp<T>>(light: &L, uv: &[(T, T)]) -> T {
     uv.iter().fold(T::zero(), |acc, (u, v)| {
         fold_light(
             acc,
-            &t.sample_light([black_box(u).clone(), black_box(v).clone()]),
+            &light.sample_light([black_box(u).clone(), black_box(v).clone()]),
         )
     })
 }
@@ -223,17 +224,6 @@ pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T
 #[inline(always)]
 fn fold_light<T: Real>(acc: T, smp: &areawarp::LightSample<T>) -> T {
     fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x + &smp.distance
-}
-
-/// One batch of the sphere light `s` built once: a light sample per `(u, v)`.
-#[inline(always)]
-pub fn sphere_per_sample<T: Real>(s: &SphereLight<T>, uv: &[(T, T)]) -> T {
-    uv.iter().fold(T::zero(), |acc, (u, v)| {
-        fold_light(
-            acc,
-            &s.sample_light([black_box(u).clone(), black_box(v).clone()]),
-        )
-    })
 }
 
 /// One batch of one-shot light samples of the sphere light.
