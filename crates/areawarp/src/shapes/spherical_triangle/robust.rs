@@ -108,7 +108,10 @@ pub(super) fn map_from<T: Real>(
 impl<T: Real> SphericalTriangle<T> {
     /// Where the great circle through B and the unit direction `q` meets the
     /// arc AC: returns `(sin(θ/2), cos(θ/2), n̂₁, q − B)` with θ = ∠AC_s and
-    /// `n̂₁ = (B × q)/|B × q|`; `None` if `q = ±B`.
+    /// `n̂₁ = (B × q)/|B × q|`; `None` if `q = ±B`. Where that circle
+    /// holds the whole arc AC to rounding (a sliver: the chart's `(x, y)`
+    /// below 16 units of roundoff), the end of the arc beyond q as seen
+    /// from B.
     pub(super) fn chart_half_angle(&self, q: &Vec3<T>) -> Option<(T, T, Vec3<T>, Vec3<T>)> {
         let w = q.sub(&self.b);
         // n₁ = B × q, from the shorter of q ∓ B (no cancellation near ±B).
@@ -129,6 +132,26 @@ impl<T: Real> SphericalTriangle<T> {
             y = -y;
         }
         let r = x.hypot(&y);
+        // n̂₁ is accurate to a few units of roundoff (w = q − B is exact
+        // where q ≈ B), and so are x and y: below 16u, (x, y) is noise.
+        if r <= T::from_i64(16) * &T::unit_roundoff() {
+            // The great circle through B and q holds A and the arc AC to
+            // working precision (a sliver narrower than rounding, q on it),
+            // so where it meets the arc is not determined. The sliver lies
+            // along one great circle, and q on the arc from B to one end V
+            // of AC (A: θ = 0; C: θ = b), the one with the larger
+            // (q − B)·(V − B): that end serves as q's chart, and v follows
+            // (`docs/spherical-triangle.md` §6, "Slivers below rounding").
+            let c_minus_b = self.c.sub(&self.b);
+            let (s, c) = if w.dot(&c_minus_b) > w.dot(&self.a_minus_b) {
+                // tan(b/2) = sin b/(1 + cos b).
+                let m = self.sin_b.hypot(&self.one_plus_cos_b);
+                (self.sin_b.clone() / &m, self.one_plus_cos_b.clone() / &m)
+            } else {
+                (T::zero(), T::one())
+            };
+            return Some((s, c, n1, w));
+        }
         if !r.is_finite_above(&T::zero()) {
             return None;
         }
