@@ -17,7 +17,13 @@
 //! resolve) are merged; the counts of distinct directions are printed.
 //! And an `f64` polygon rejected for zero projected solid
 //! angle whose exact Π is positive lies below the constructor's documented
-//! threshold 64 u Σ|n_z||Δφ| (direction input).
+//! threshold 64 u Σ|n_z||Δφ| (direction input), for the polygon the
+//! constructor holds: the directions normalized in `f64`, judged exactly,
+//! to 1/32 of the threshold (the constructor's own rounding of Π). On the
+//! input values themselves the exact Π of a rejected polygon can be larger
+//! (up to 92 u Σ in 61 seeds × 10⁴ polygons, `AREAWARP_FUZZ_SEED`): there
+//! rounding the directions to `f64` alone moves Π by a third, and f64 does
+//! not resolve it; the printed `ratio_range` and `rounding_range` show both.
 //!
 //! `cargo test --release -p areawarp --features mpfr --test polygon_degenerate -- --nocapture`
 #![cfg(feature = "mpfr")]
@@ -180,6 +186,10 @@ struct Tally {
     /// Zero-area rejections with a positive exact Π, direction input:
     /// log10 of Π / (u Σ|n_z||Δφ|), u = 2⁻⁵³: (least, largest).
     ratio_range: Option<(f64, f64)>,
+    /// The same for Π(f64 unit vertices), the exact projected solid angle
+    /// of the polygon the constructor holds once the directions are
+    /// normalized in `f64`: (least, largest).
+    rounded_ratio_range: Option<(f64, f64)>,
     /// The same: log10 of |Π(f64 unit vertices) − Π| / Π, the relative
     /// change of the exact projected solid angle caused by rounding the
     /// unit vertices to `f64` alone: (least, largest).
@@ -277,6 +287,10 @@ fn judge(case: &PolygonCase, t: &mut Tally) {
                 );
                 let units: Vec<Vec3<X>> = case.vertices.iter().map(f64_unit).collect();
                 let rounded = clipped_projected_solid_angle(&units, &n);
+                widen(
+                    &mut t.rounded_ratio_range,
+                    (rounded.to_f64() / (mag * f64::EPSILON / 2.0)).log10(),
+                );
                 let change = ((rounded - &pi).abs() / &pi).to_f64();
                 widen(&mut t.rounding_range, change.max(1e-300).log10());
                 t.rounding_changes.0 += 1;
@@ -322,10 +336,16 @@ fn survey(cases: u32) {
             "{name}: a polygon rejected as coincident with 3 directions apart by 10⁻¹⁵ rad or more"
         );
     }
-    if let Some((_, highest)) = t.ratio_range {
+    // The constructor decides on the polygon it holds, the directions
+    // normalized in `f64`, with its own rounding of Π (a few units of
+    // u Σ|n_z||Δφ| against 64 of them): each rejection is below the
+    // threshold for that polygon, to 1/32 of it. (On the input values
+    // themselves the exact Π may be larger: where rounding the directions
+    // to `f64` changes Π by 1/64 or more, f64 does not resolve it.)
+    if let Some((_, highest)) = t.rounded_ratio_range {
         assert!(
-            highest < 64f64.log10(),
-            "a zero-area rejection at 10^{highest} u Σ|n_z||Δφ|, above the threshold 64"
+            highest < (64.0f64 * (1.0 + 1.0 / 32.0)).log10(),
+            "a zero-area rejection at 10^{highest} u Σ|n_z||Δφ| (f64 unit vertices), above the threshold 64"
         );
     }
 }
