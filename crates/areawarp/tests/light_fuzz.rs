@@ -734,11 +734,12 @@ fn fuzz_regressions() {
 /// width is below `f64`'s rounding. Where the great circle through B and a
 /// sample lies along the whole arc AC to rounding, the inverse found no
 /// chart and refused the map's own samples (A at `(0, 1)`, `C_s` at
-/// `(½, 1)`). Every sample is now inverted; the vertex A (`v = 1` at
-/// `u = 0`) to a point of the map within 64 units of roundoff of it.
-/// Elsewhere on a sliver a direction rounded to `f64` determines `(u, v)`
-/// only to about its distance from B and the short side |BC| (1e-4…1e-3
-/// here), and the inverse's image is that close.
+/// `(½, 1)`). Every sample is now inverted; those at `u = 0`, `v ≥ ½`
+/// (the far half of the arc BA, the vertex A included) to a point of the
+/// map within 64 units of roundoff of them. Elsewhere on a sliver a
+/// direction rounded to `f64` determines `(u, v)` only to about its
+/// distance from B and the short side |BC| (1e-4…1e-3 here), and the
+/// inverse's image is that close.
 #[test]
 fn slivers_invert_their_own_samples() {
     let slivers = [
