@@ -2,7 +2,7 @@
 //! (Shao & Badler 1996): `z = 1 − 2u`, `φ = 2πv`, optionally about a
 //! rotated (e.g. random) axis. Derivation: `docs/sphere.md`.
 
-use super::local_frame::LocalFrame;
+use super::local_frame::{LocalFrame, unit_vector};
 use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
@@ -29,21 +29,11 @@ impl<T: Real> Frame<T> {
                 what: "sphere axis",
             });
         }
-        // Scale by the largest coordinate first: no overflow for huge and no
-        // underflow for subnormal inputs.
-        let m = axis.max_abs();
-        if !positive(&m) {
-            return Err(WarpError::Degenerate {
-                what: "sphere axis is the zero vector",
-            });
-        }
-        let b = Vec3::new(
-            axis.x.clone() / &m,
-            axis.y.clone() / &m,
-            axis.z.clone() / &m,
-        );
-        let n = b.norm();
-        let a = Vec3::new(b.x / &n, b.y / &n, b.z / &n);
+        // Scaled by the largest coordinate first: no overflow for huge and
+        // no underflow for subnormal inputs.
+        let a = unit_vector(axis).ok_or(WarpError::Degenerate {
+            what: "sphere axis is the zero vector",
+        })?;
         let LocalFrame { e1, e2, axis } = LocalFrame::about_unit(a);
         Ok(Frame { e1, e2, axis })
     }
