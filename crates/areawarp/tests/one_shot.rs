@@ -14,9 +14,10 @@
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use areawarp::warp::{LightSample, LightWarp};
-use areawarp::{Real, Vec3, Warp};
+use areawarp::{Real, Vec3, Warp, WarpError};
 use proptest::test_runner::Config;
 use std::cell::RefCell;
+use std::fmt::Debug;
 
 #[path = "support/light_cases.rs"]
 mod light_cases;
@@ -68,7 +69,7 @@ fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
         // The one-shot solid angle does not check the map's constants;
         // every other rejection is the constructor's, with the same reason.
         match &built {
-            Err(e @ areawarp::WarpError::Unrepresentable { .. }) => {
+            Err(e @ WarpError::Unrepresentable { .. }) => {
                 assert!(
                     omega.is_ok() || omega == Err(e.clone()),
                     "{case:?}: {omega:?} {e:?}"
@@ -96,7 +97,7 @@ fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
                 (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
                 // `sample_once_from_points` does not check the plane of the
                 // points (documented): the shape's only refusal may be it.
-                (Err(areawarp::WarpError::Unrepresentable { what }), Ok(_))
+                (Err(WarpError::Unrepresentable { what }), Ok(_))
                     if o.is_some() && what.contains("plane") =>
                 {
                     n.plane_only += 1
@@ -110,20 +111,8 @@ fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
             // The light sample of points checks the plane as the shape does.
             if let Some(o) = &o {
                 let once = SphericalTriangle::sample_light_once(&a, &b, &c, o, u, v);
-                match (&built, once) {
-                    (Ok(t), Ok(x)) => {
-                        assert!(
-                            same_light(&x, &t.sample_light([u.clone(), v.clone()])),
-                            "{case:?} at ({u}, {v}): one-shot {x:?}"
-                        );
-                        n.light_samples += 1;
-                    }
-                    (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
-                    (built, once) => panic!(
-                        "{case:?} at ({u}, {v}): shape {:?}, light one-shot {:?}",
-                        built.as_ref().err(),
-                        once.err()
-                    ),
+                if light_agrees(case, &built, once, u, v) {
+                    n.light_samples += 1;
                 }
             }
         }
@@ -137,6 +126,37 @@ fn same_light<T: Real>(a: &LightSample<T>, b: &LightSample<T>) -> bool {
         && same(&a.distance, &b.distance)
         && same(&a.pdf, &b.pdf)
         && same(&a.pdf_area, &b.pdf_area)
+}
+
+/// The one-shot light sample `once` at `(u, v)` against the built shape's
+/// `sample_light`: both accepted with the same bits, or both refused with
+/// the same error; `true` if a sample was compared.
+fn light_agrees<T: Real, L: LightWarp<T>>(
+    case: &impl Debug,
+    built: &Result<L, WarpError>,
+    once: Result<LightSample<T>, WarpError>,
+    u: &T,
+    v: &T,
+) -> bool {
+    match (built, once) {
+        (Ok(shape), Ok(a)) => {
+            let b = shape.sample_light([u.clone(), v.clone()]);
+            assert!(
+                same_light(&a, &b),
+                "{case:?} at ({u}, {v}): one-shot {a:?}, shape {b:?}"
+            );
+            true
+        }
+        (Err(e), Err(f)) => {
+            assert_eq!(*e, f, "{case:?}");
+            false
+        }
+        (built, once) => panic!(
+            "{case:?} at ({u}, {v}): shape {:?}, light one-shot {:?}",
+            built.as_ref().err(),
+            once.err()
+        ),
+    }
 }
 
 fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
@@ -154,21 +174,8 @@ fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
     for u in &unit_values::<T>() {
         for v in &unit_values::<T>() {
             let once = SphericalRectangle::sample_once(&s, &ex, &ey, &o, u, v);
-            match (&built, once) {
-                (Ok(r), Ok(a)) => {
-                    let b = r.sample_light([u.clone(), v.clone()]);
-                    assert!(
-                        same_light(&a, &b),
-                        "{case:?} at ({u}, {v}): one-shot {a:?}, shape {b:?}"
-                    );
-                    n.samples += 1;
-                }
-                (Err(e), Err(f)) => assert_eq!(*e, f, "{case:?}"),
-                (built, once) => panic!(
-                    "{case:?} at ({u}, {v}): shape {:?}, one-shot {:?}",
-                    built.as_ref().err(),
-                    once.err()
-                ),
+            if light_agrees(case, &built, once, u, v) {
+                n.samples += 1;
             }
         }
     }
