@@ -58,10 +58,9 @@ use std::hint::black_box;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, fold, light_per_sample, rectangle_one_shot, rectangle_per_sample,
-    rectangle_textbook_one_shot, rectangles, sphere_one_shot, spheres, triangle_light_one_shot,
-    triangle_light_textbook_one_shot, triangle_one_shot, triangle_per_sample,
-    triangle_textbook_one_shot, triangles,
+    N, batch, fold, light_per_sample, rectangle_one_shot, rectangle_textbook_one_shot, rectangles,
+    sphere_one_shot, spheres, triangle_light_one_shot, triangle_light_textbook_one_shot,
+    triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -180,9 +179,7 @@ fn rectangle_in<T: Real>(c: &mut Criterion, name: &str) {
     g.throughput(Throughput::Elements(N as u64));
     let [s, ex, ey, o] = &shapes[0];
     let r = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone()).unwrap();
-    g.bench_function("per-sample", |bch| {
-        bch.iter(|| rectangle_per_sample(&r, &uv))
-    });
+    g.bench_function("per-sample", |bch| bch.iter(|| light_per_sample(&r, &uv)));
     g.bench_function("one-shot", |bch| {
         bch.iter(|| rectangle_one_shot(&shapes, &uv))
     });

@@ -44,10 +44,9 @@ use std::time::Instant;
 #[path = "support/one_shot_data.rs"]
 mod data;
 use data::{
-    N, batch, light_per_sample, rectangle_one_shot, rectangle_per_sample,
-    rectangle_textbook_one_shot, rectangles, sphere_one_shot, spheres, triangle_light_one_shot,
-    triangle_light_textbook_one_shot, triangle_one_shot, triangle_per_sample,
-    triangle_textbook_one_shot, triangles,
+    N, batch, light_per_sample, rectangle_one_shot, rectangle_textbook_one_shot, rectangles,
+    sphere_one_shot, spheres, triangle_light_one_shot, triangle_light_textbook_one_shot,
+    triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
 mod textbook;
@@ -139,7 +138,7 @@ fn main() {
         reps,
         &r32,
         rectangle,
-        rectangle_per_sample,
+        light_per_sample,
         rectangle_one_shot,
     );
     measure(
@@ -147,7 +146,7 @@ fn main() {
         reps,
         &r64,
         rectangle,
-        rectangle_per_sample,
+        light_per_sample,
         rectangle_one_shot,
     );
     fn sphere<T: Real>((c, r, o): &(Vec3<T>, T, Vec3<T>)) -> SphereLight<T> {
@@ -237,18 +236,8 @@ fn main() {
         &triangle(&t64[0]),
         triangle_per_sample,
     );
-    chained(
-        "rectangle f32",
-        reps,
-        &rectangle(&r32[0]),
-        rectangle_per_sample,
-    );
-    chained(
-        "rectangle f64",
-        reps,
-        &rectangle(&r64[0]),
-        rectangle_per_sample,
-    );
+    chained("rectangle f32", reps, &rectangle(&r32[0]), light_per_sample);
+    chained("rectangle f64", reps, &rectangle(&r64[0]), light_per_sample);
     // Each call names the batch functions anew: one tuple would fix `T`.
     let tri32 = (
         triangle_per_sample,
@@ -261,12 +250,12 @@ fn main() {
         triangle_textbook_one_shot,
     );
     let rect32 = (
-        rectangle_per_sample,
+        light_per_sample,
         rectangle_one_shot,
         rectangle_textbook_one_shot,
     );
     let rect64 = (
-        rectangle_per_sample,
+        light_per_sample,
         rectangle_one_shot,
         rectangle_textbook_one_shot,
     );

@@ -11,7 +11,7 @@
 //! correct sampler of the same map, not a cheaper different one.
 
 use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
-use areawarp::{Real, Vec3};
+use areawarp::{LightSample, Real, Vec3};
 
 #[path = "../benches/support/textbook_one_shot.rs"]
 mod textbook;
@@ -25,7 +25,8 @@ mod data;
 use data::{batch, lcg, rectangles, triangles};
 
 /// The largest differences seen: direction (Euclidean), relative pdf,
-/// relative area pdf, point (relative to the distance).
+/// relative area pdf, point (relative to the distance; for light samples
+/// also the relative difference of the distances).
 #[derive(Default, Debug)]
 struct Worst {
     direction: f64,
@@ -33,6 +34,21 @@ struct Worst {
     pdf_area: f64,
     point: f64,
     samples: usize,
+}
+
+impl Worst {
+    /// One light sample of ours against the textbook's: direction, point
+    /// and distance (relative to ours), pdf and area pdf.
+    fn add<T: Real>(&mut self, ours: &LightSample<T>, book: &LightSample<T>) {
+        self.direction = self.direction.max(dist(&ours.direction, &book.direction));
+        self.point = self
+            .point
+            .max(dist(&ours.point, &book.point) / ours.distance.to_f64())
+            .max(rel(&book.distance, &ours.distance));
+        self.pdf = self.pdf.max(rel(&book.pdf, &ours.pdf));
+        self.pdf_area = self.pdf_area.max(rel(&book.pdf_area, &ours.pdf_area));
+        self.samples += 1;
+    }
 }
 
 fn dist<T: Real>(a: &Vec3<T>, b: &Vec3<T>) -> f64 {
@@ -54,30 +70,16 @@ fn triangle<T: Real>([a, b, c, o]: &[Vec3<T>; 4], uv: &[(T, T)], w: &mut Worst) 
         // The light sample: the same direction's point on the plane and
         // its density in area.
         let ours = SphericalTriangle::sample_light_once(a, b, c, o, u, v).unwrap();
-        let (dir, point, distance, pdf, pdf_area) =
-            textbook_triangle_light_sample(a, b, c, o, u, v);
-        w.direction = w.direction.max(dist(&ours.direction, &dir));
-        w.point = w
-            .point
-            .max(dist(&ours.point, &point) / ours.distance.to_f64())
-            .max(rel(&distance, &ours.distance));
-        w.pdf = w.pdf.max(rel(&pdf, &ours.pdf));
-        w.pdf_area = w.pdf_area.max(rel(&pdf_area, &ours.pdf_area));
-        w.samples += 1;
+        let book = textbook_triangle_light_sample(a, b, c, o, u, v);
+        w.add(&ours, &book);
     }
 }
 
 fn rectangle<T: Real>([s, ex, ey, o]: &[Vec3<T>; 4], uv: &[(T, T)], w: &mut Worst) {
     for (u, v) in uv {
         let ours = SphericalRectangle::sample_once(s, ex, ey, o, u, v).unwrap();
-        let (dir, point, pdf, pdf_area) = textbook_rectangle_sample(s, ex, ey, o, u, v);
-        w.direction = w.direction.max(dist(&ours.direction, &dir));
-        w.point = w
-            .point
-            .max(dist(&ours.point, &point) / ours.distance.to_f64());
-        w.pdf = w.pdf.max(rel(&pdf, &ours.pdf));
-        w.pdf_area = w.pdf_area.max(rel(&pdf_area, &ours.pdf_area));
-        w.samples += 1;
+        let book = textbook_rectangle_sample(s, ex, ey, o, u, v);
+        w.add(&ours, &book);
     }
 }
 
@@ -272,7 +274,8 @@ fn f32_accuracy_against_f64() {
     for [s, ex, ey, o] in &rectangles::<f32>() {
         for (u, v) in &uv {
             let p = SphericalRectangle::sample_once(s, ex, ey, o, u, v).unwrap();
-            let (q, _, qdf, _) = textbook_rectangle_sample(s, ex, ey, o, u, v);
+            let textbook = textbook_rectangle_sample(s, ex, ey, o, u, v);
+            let (q, qdf) = (textbook.direction, textbook.pdf);
             let (u, v) = (f64::from(*u), f64::from(*v));
             let r =
                 SphericalRectangle::sample_once(&wide(s), &wide(ex), &wide(ey), &wide(o), &u, &v)

@@ -103,7 +103,7 @@ pub fn triangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
 }
 
 /// One batch of the light `light` (a triangle built by `from_points`, a
-/// sphere light) built once: a light sample (direction, point, distance,
+/// rectangle, a sphere light) built once: a light sample (direction, point, distance,
 /// both densities) per `(u, v)`.
 #[inline(always)]
 pub fn light_per_sample<T: Real, L: LightWarp<T>>(light: &L, uv: &[(T, T)]) -> T {
@@ -129,15 +129,6 @@ pub fn triangle_light_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) 
         })
 }
 
-/// One batch of the rectangle `r` built once: a light sample per `(u, v)`.
-#[inline(always)]
-pub fn rectangle_per_sample<T: Real>(r: &SphericalRectangle<T>, uv: &[(T, T)]) -> T {
-    uv.iter().fold(T::zero(), |acc, (u, v)| {
-        let smp = r.sample_light([black_box(u).clone(), black_box(v).clone()]);
-        fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
-    })
-}
-
 /// One batch of one-shot light samples of the rectangle.
 #[inline(always)]
 pub fn rectangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
@@ -147,7 +138,7 @@ pub fn rectangle_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T 
         .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
             let smp =
                 SphericalRectangle::sample_once(black_box(s), ex, ey, black_box(o), u, v).unwrap();
-            fold(acc, &smp.direction, &smp.pdf) + &smp.pdf_area + &smp.point.x
+            fold_light(acc, &smp)
         })
 }
 
@@ -183,23 +174,22 @@ pub fn triangle_light_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[
         .iter()
         .zip(uv)
         .fold(T::zero(), |acc, ([a, b, c, o], (u, v))| {
-            let (direction, point, distance, pdf, pdf_area) =
-                crate::textbook::textbook_triangle_light_sample(
-                    black_box(a),
-                    b,
-                    c,
-                    black_box(o),
-                    u,
-                    v,
-                );
-            fold(acc, &direction, &pdf) + &pdf_area + &point.x + &distance
+            let smp = crate::textbook::textbook_triangle_light_sample(
+                black_box(a),
+                b,
+                c,
+                black_box(o),
+                u,
+                v,
+            );
+            fold_light(acc, &smp)
         })
 }
 
 /// One batch of textbook one-shot rectangle samples
 /// (`textbook::textbook_rectangle_sample`) over the same shading points and
-/// `(u, v)` as [`rectangle_one_shot`], folding the same outputs (direction,
-/// pdf, area pdf, point.x): the textbook computes the area pdf that
+/// `(u, v)` as [`rectangle_one_shot`], folding the same outputs
+/// ([`fold_light`]): the textbook computes the distance and area pdf that
 /// areawarp's `LightSample` carries, so both sides do the same work.
 #[inline(always)]
 pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T)]) -> T {
@@ -207,7 +197,7 @@ pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T
         .iter()
         .zip(uv)
         .fold(T::zero(), |acc, ([s, ex, ey, o], (u, v))| {
-            let (direction, point, pdf, pdf_area) = crate::textbook::textbook_rectangle_sample(
+            let smp = crate::textbook::textbook_rectangle_sample(
                 black_box(s),
                 ex,
                 ey,
@@ -215,7 +205,7 @@ pub fn rectangle_textbook_one_shot<T: Real>(shapes: &[[Vec3<T>; 4]], uv: &[(T, T
                 u,
                 v,
             );
-            fold(acc, &direction, &pdf) + &pdf_area + &point.x
+            fold_light(acc, &smp)
         })
 }
 

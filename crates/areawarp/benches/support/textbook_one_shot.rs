@@ -19,7 +19,7 @@
 
 #![allow(dead_code)]
 
-use areawarp::{Real, Vec3};
+use areawarp::{LightSample, Real, Vec3};
 
 /// `v / |v|` by one square root and one division (what renderers write; no
 /// guard against overflow, underflow or the zero vector).
@@ -125,9 +125,8 @@ pub fn textbook_triangle_sample<T: Real>(
 /// `o`, the direction `d` from Arvo's map, the point where the ray meets
 /// the triangle's plane (normal `n = (p1 − p0) × (p2 − p0)`, unnormalized:
 /// `t = ((p0 − o)·n)/(d·n)`), and the density in area
-/// `pdf·|d·n|/(|n| t²)`: `(direction, point, distance, pdf, pdf_area)`, the
-/// outputs of areawarp's `LightSample`. Unvalidated textbook code (see the
-/// module doc).
+/// `pdf·|d·n|/(|n| t²)`, returned as areawarp's `LightSample`.
+/// Unvalidated textbook code (see the module doc).
 #[inline(always)]
 pub fn textbook_triangle_light_sample<T: Real>(
     p0: &Vec3<T>,
@@ -136,7 +135,7 @@ pub fn textbook_triangle_light_sample<T: Real>(
     o: &Vec3<T>,
     u: &T,
     v: &T,
-) -> (Vec3<T>, Vec3<T>, T, T, T) {
+) -> LightSample<T> {
     let a = p0.sub(o);
     let (d, pdf) = textbook_triangle_sample(&a, &p1.sub(o), &p2.sub(o), u, v);
     let n = p1.sub(p0).cross(&p2.sub(p0));
@@ -144,15 +143,21 @@ pub fn textbook_triangle_light_sample<T: Real>(
     let t = a.dot(&n) / &dn;
     let point = o.add(&d.scale(&t));
     let pdf_area = pdf.clone() * &dn.abs() / &(n.dot(&n).sqrt() * &t.square());
-    (d, point, t, pdf, pdf_area)
+    LightSample {
+        direction: d,
+        point,
+        distance: t,
+        pdf,
+        pdf_area,
+    }
 }
 
 /// Ureña, Fajardo and King's (2013) uniform sample of the solid angle of
 /// the rectangle with corner `s` and perpendicular edges `ex`, `ey`, seen
-/// from `o`: `(direction, point, pdf, pdf_area)` with the unit direction
-/// from `o`, the point on the rectangle, the density `1/Ω` per steradian
-/// and the density per unit area `pdf · |cos θ_e| / r²` (as areawarp's
-/// `LightSample`; a renderer computes it for MIS with area lights).
+/// from `o`, as areawarp's `LightSample`: the unit direction from `o`, the
+/// point on the rectangle, its distance `r`, the density `1/Ω` per
+/// steradian and the density per unit area `pdf · |cos θ_e| / r²` (a
+/// renderer computes it for MIS with area lights).
 /// Unvalidated textbook code (see the module doc).
 ///
 /// Same parametrization as areawarp's `SphericalRectangle`: in the frame
@@ -178,7 +183,7 @@ pub fn textbook_rectangle_sample<T: Real>(
     o: &Vec3<T>,
     u: &T,
     v: &T,
-) -> (Vec3<T>, Vec3<T>, T, T) {
+) -> LightSample<T> {
     let (len_x, len_y) = (ex.dot(ex).sqrt(), ey.dot(ey).sqrt());
     let x = ex.scale(&(T::one() / &len_x));
     let y = ey.scale(&(T::one() / &len_y));
@@ -236,7 +241,13 @@ pub fn textbook_rectangle_sample<T: Real>(
     let pdf = T::one() / &omega;
     // cos θ_e = |z₀|/r: pdf_area = pdf |z₀| / r³.
     let pdf_area = pdf.clone() * &(-z0) / &(r2 * &r);
-    (direction, point, pdf, pdf_area)
+    LightSample {
+        direction,
+        point,
+        distance: r,
+        pdf,
+        pdf_area,
+    }
 }
 
 /// The solid angle as a renderer writes it without validation (pbrt-v4's
