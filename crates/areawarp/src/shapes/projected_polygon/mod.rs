@@ -641,16 +641,19 @@ impl<T: Real> ProjectedPolygon<T> {
         }
     }
 
-    /// Whether the unit local direction `d` lies in the clipped polygon.
+    /// Whether the unit local direction `d` lies in the clipped polygon, by
+    /// the intervals of its lune. A lune the map does not sample (its area
+    /// rounded to zero: a sliver narrower than rounding in azimuth, such as
+    /// the sliver between a vertex just above the horizon and the crossing
+    /// of its edge) is still part of the polygon and is judged by its
+    /// intervals too; a lune without edges (a gap between parts of the
+    /// polygon) has none and contains nothing.
     fn contains(&self, parts: &Parts<T>, d: &Vec3<T>) -> bool {
         if d.z < T::zero() {
             return false;
         }
         let (l, p) = self.locate_azimuth(parts, &atan2_by_atan(&d.y, &d.x));
         let lune = &parts.lunes[l];
-        if lune.active.is_none() {
-            return false;
-        }
         let (side, c, s) = Self::side_coordinates(parts, l, &p);
         let r2 = d.x.square() + &d.y.square();
         let z2 = d.z.square();

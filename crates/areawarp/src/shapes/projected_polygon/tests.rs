@@ -596,4 +596,6 @@ fn projected_polygon_chi_square_1e6() {
 
 mod coincident;
 #[cfg(feature = "mpfr")]
+mod horizon_sliver;
+#[cfg(feature = "mpfr")]
 mod mpfr;
