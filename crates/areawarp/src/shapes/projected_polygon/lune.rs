@@ -258,9 +258,42 @@ impl<T: Real> Lune<T> {
                 let e = &edges[i];
                 let (g_i, den_i) = e.g(side, c, s);
                 let len = self.pair_len(o, e, pair, side, (&g_o, &den_o), (&g_i, &den_i), c, s);
+                let r_in = e.nz2.clone() / &den_i;
+                let z_in = g_i.square() / &den_i;
+                if pair.shared[side as usize] {
+                    // The edges meet at the side's meridian (an extremal
+                    // vertex). An edge nearly along a meridian (small |n_z|)
+                    // places its points with a relative error ~u/|n_z| in
+                    // r², which moves them along the edge, except where the
+                    // interval closes at the vertex: there it is off the
+                    // polygon. Near the vertex one end is therefore taken
+                    // from the edge with the larger |n_z| and the other by
+                    // the length (`len` is exact there: D = B s), while the
+                    // difference that forms it keeps the relative accuracy
+                    // (`len` at most half the end it is subtracted from).
+                    let two_len = len.clone() + &len;
+                    if e.abs_nz < o.abs_nz && two_len <= r_out {
+                        return Interval {
+                            r_in: r_out.clone() - &len,
+                            z_in: z_out.clone() + &len,
+                            r_out,
+                            z_out,
+                            len,
+                        };
+                    }
+                    if o.abs_nz < e.abs_nz && two_len <= z_in {
+                        return Interval {
+                            r_out: r_in.clone() + &len,
+                            z_out: z_in.clone() - &len,
+                            r_in,
+                            z_in,
+                            len,
+                        };
+                    }
+                }
                 Interval {
-                    r_in: e.nz2.clone() / &den_i,
-                    z_in: g_i.square() / &den_i,
+                    r_in,
+                    z_in,
                     r_out,
                     z_out,
                     len,

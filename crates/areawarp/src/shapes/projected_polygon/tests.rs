@@ -596,6 +596,8 @@ fn projected_polygon_chi_square_1e6() {
 
 mod coincident;
 #[cfg(feature = "mpfr")]
+mod extremal_vertex;
+#[cfg(feature = "mpfr")]
 mod horizon_sliver;
 #[cfg(feature = "mpfr")]
 mod mpfr;

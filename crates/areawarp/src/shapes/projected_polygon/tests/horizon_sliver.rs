@@ -10,10 +10,26 @@ use crate::real::Mpfr256;
 
 fn sliver() -> Vec<Vec3<f64>> {
     [
-        [0.8690802105519465, 0.49467119142616767, 1.6543232327317128e-8],
-        [0.8690977946372044, 0.4946402966658945, 1.6462798928605712e-5],
-        [0.869105929459952, 0.49462600317138017, -1.9085566245510317e-5],
-        [0.8690883453746941, 0.49465689793165335, -3.55318219417887e-5],
+        [
+            0.8690802105519465,
+            0.49467119142616767,
+            1.6543232327317128e-8,
+        ],
+        [
+            0.8690977946372044,
+            0.4946402966658945,
+            1.6462798928605712e-5,
+        ],
+        [
+            0.869105929459952,
+            0.49462600317138017,
+            -1.9085566245510317e-5,
+        ],
+        [
+            0.8690883453746941,
+            0.49465689793165335,
+            -3.55318219417887e-5,
+        ],
     ]
     .iter()
     .map(|&[x, y, z]| Vec3::new(x, y, z))
@@ -24,12 +40,16 @@ fn sliver() -> Vec<Vec3<f64>> {
 fn an_unsampled_lune_is_part_of_the_polygon() {
     let v = sliver();
     let w = ProjectedPolygon::new(&v).unwrap();
-    let exact = ProjectedPolygon::<Mpfr256>::new(&v.iter().map(|p| p.convert()).collect::<Vec<_>>())
-        .unwrap();
+    let exact =
+        ProjectedPolygon::<Mpfr256>::new(&v.iter().map(|p| p.convert()).collect::<Vec<_>>())
+            .unwrap();
     let parts = w.parts();
     // The case is what it says: a lune with edges that the map skips.
     assert!(
-        parts.lunes.iter().any(|l| l.active.is_none() && l.n_edges > 0),
+        parts
+            .lunes
+            .iter()
+            .any(|l| l.active.is_none() && l.n_edges > 0),
         "no unsampled lune"
     );
     let u = f64::EPSILON / 2.0;
@@ -51,7 +71,10 @@ fn an_unsampled_lune_is_part_of_the_polygon() {
         let (by_f64, by_exact) = (w.outside_by(d), exact.outside_by(&d.convert()).to_f64());
         // On the polygon at 256 bits, and so in f64 (4u: the radial
         // term and the normalization of d).
-        assert!(by_exact <= 4.0 * u, "{d:?}: 256 bits put it {by_exact:e} off");
+        assert!(
+            by_exact <= 4.0 * u,
+            "{d:?}: 256 bits put it {by_exact:e} off"
+        );
         assert!(by_f64 <= 4.0 * u, "{d:?}: f64 puts it {by_f64:e} off");
         // Neither refused by the inverse nor given density 0 as off the
         // shape.
