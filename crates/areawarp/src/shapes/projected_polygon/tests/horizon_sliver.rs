@@ -63,8 +63,7 @@ fn an_unsampled_lune_is_part_of_the_polygon() {
         .iter()
         .find(|a| a.a.z == 0.0 && a.b.z > 0.0)
         .expect("the edge coming up through the horizon")
-        .a
-        .clone();
+        .a;
     let v0 = v[0].scale(&(1.0 / v[0].norm()));
     dirs.push(c.add(&v0).add(&dirs[0]).normalized().unwrap());
     for d in &dirs {
