@@ -268,9 +268,10 @@ impl<T: Real> Lune<T> {
                     // interval closes at the vertex: there it is off the
                     // polygon. Near the vertex one end is therefore taken
                     // from the edge with the larger |n_z| and the other by
-                    // the length (`len` is exact there: D = B s), while the
-                    // difference that forms it keeps the relative accuracy
-                    // (`len` at most half the end it is subtracted from).
+                    // the length (`len` keeps its relative accuracy there:
+                    // D = B s, no cancellation), while the difference that
+                    // forms it keeps its own (`len` at most half the end it
+                    // is subtracted from).
                     let two_len = len.clone() + &len;
                     if e.abs_nz < o.abs_nz && two_len <= r_out {
                         return Interval {
