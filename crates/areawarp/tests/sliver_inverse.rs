@@ -69,7 +69,7 @@ fn slivers_invert_their_own_samples() {
     let tol = 64.0 * f64::EPSILON / 2.0;
     let mut checked = 0;
     for v in slivers {
-        let [a, b, c] = v.map(|p| Vec3::new(p[0], p[1], p[2]));
+        let [a, b, c] = v.map(Vec3::from);
         let t = SphericalTriangle::<f64>::new(a, b, c).unwrap();
         assert!(t.solid_angle() < 1e-15, "{v:?}");
         for u in unit_values::<f64>() {

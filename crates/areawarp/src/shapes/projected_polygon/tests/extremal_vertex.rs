@@ -10,10 +10,6 @@
 use super::*;
 use crate::real::Mpfr256;
 
-fn v3(p: &[f64; 3]) -> Vec3<f64> {
-    Vec3::new(p[0], p[1], p[2])
-}
-
 /// Samples at `u` (the vertex's meridian) are within 4u of the polygon in
 /// f64 and at 256 bits (the polygon rebuilt from the same input), and
 /// accepted by the inverse.
@@ -42,12 +38,11 @@ fn planar_quad_with_an_edge_along_a_meridian() {
         [81094034798689.73, -41992483057027.28, 80855171537955.14],
         [60559881164582.836, -33778821603384.527, 80855171537955.14],
     ]
-    .iter()
-    .map(v3)
-    .collect();
+    .map(Vec3::from)
+    .to_vec();
     let (o, n) = (
         Vec3::zero(),
-        v3(&[-0.16881542697479143, -0.05064462809243743, 1.0]),
+        Vec3::from([-0.16881542697479143, -0.05064462809243743, 1.0]),
     );
     let w = ProjectedPolygon::from_points(&pts, &o, &n).unwrap();
     let wide: Vec<Vec3<Mpfr256>> = pts.iter().map(|p| p.convert()).collect();
@@ -79,9 +74,8 @@ fn nearly_coincident_hexagon_at_its_first_meridian() {
         [-0.900628743475265, -0.2543426851786896, 0.3523885141747094],
         [-0.8997195070891413, -0.2561029013015224, 0.3534347358540405],
     ]
-    .iter()
-    .map(v3)
-    .collect();
+    .map(Vec3::from)
+    .to_vec();
     let w = ProjectedPolygon::new(&v).unwrap();
     let exact = ProjectedPolygon::new(&v.iter().map(|p| p.convert()).collect::<Vec<_>>()).unwrap();
     vertex_samples_on_polygon(&w, &exact, 0.0);

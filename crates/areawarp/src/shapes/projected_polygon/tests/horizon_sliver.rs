@@ -31,9 +31,8 @@ fn sliver() -> Vec<Vec3<f64>> {
             -3.55318219417887e-5,
         ],
     ]
-    .iter()
-    .map(|&[x, y, z]| Vec3::new(x, y, z))
-    .collect()
+    .map(Vec3::from)
+    .to_vec()
 }
 
 #[test]
