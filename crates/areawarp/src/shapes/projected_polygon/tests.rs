@@ -594,6 +594,28 @@ fn projected_polygon_chi_square_1e6() {
     check_chi2(1_000_000);
 }
 
+/// Asserts that the direction `d` is within 4u of the polygon both at 256
+/// bits (`exact`, the polygon rebuilt from the same input) and by the f64
+/// polygon's own `outside_by`, and that `w.inverse` accepts it (`what`
+/// names the case in the messages): the check of the regression tests
+/// `extremal_vertex` and `horizon_sliver`.
+#[cfg(feature = "mpfr")]
+fn assert_on_polygon(
+    w: &ProjectedPolygon<f64>,
+    exact: &ProjectedPolygon<crate::real::Mpfr256>,
+    d: &Vec3<f64>,
+    what: &str,
+) {
+    let tol = 4.0 * f64::EPSILON / 2.0;
+    let (by_f64, by_exact) = (w.outside_by(d), exact.outside_by(&d.convert()).to_f64());
+    assert!(
+        by_exact <= tol,
+        "{what}: {d:?} is {by_exact:e} off at 256 bits"
+    );
+    assert!(by_f64 <= tol, "{what}: {d:?} is {by_f64:e} off in f64");
+    assert!(w.inverse(d).is_ok(), "{what}: {d:?} refused");
+}
+
 mod coincident;
 #[cfg(feature = "mpfr")]
 mod extremal_vertex;

@@ -10,23 +10,11 @@
 use super::*;
 use crate::real::Mpfr256;
 
-/// Samples at `u` (the vertex's meridian) are within 4u of the polygon in
-/// f64 and at 256 bits (the polygon rebuilt from the same input), and
-/// accepted by the inverse.
+/// Samples at `u` (the vertex's meridian) are on the polygon in f64 and at
+/// 256 bits and accepted by the inverse ([`assert_on_polygon`]).
 fn vertex_samples_on_polygon(w: &ProjectedPolygon<f64>, exact: &ProjectedPolygon<Mpfr256>, u: f64) {
-    let tol = 4.0 * f64::EPSILON / 2.0;
     for v in [0.0, 0.25, 0.5, 1.0] {
-        let p = w.map(&u, &v);
-        let (by_f64, by_exact) = (w.outside_by(&p), exact.outside_by(&p.convert()).to_f64());
-        assert!(
-            by_exact <= tol,
-            "u {u}, v {v}: {p:?} is {by_exact:e} off at 256 bits"
-        );
-        assert!(
-            by_f64 <= tol,
-            "u {u}, v {v}: {p:?} is {by_f64:e} off in f64"
-        );
-        assert!(w.inverse(&p).is_ok(), "u {u}, v {v}: refused");
+        assert_on_polygon(w, exact, &w.map(&u, &v), &format!("u {u}, v {v}"));
     }
 }
 
