@@ -8,40 +8,31 @@
 //! (`robust/cone.rs`, `Cone::outside_local`).
 
 use areawarp::shapes::SphericalRectangle;
-use areawarp::{Real, Vec3, Warp};
+use areawarp::{Real, Warp};
 
 #[path = "support/light_cases.rs"]
 mod light_cases;
-use light_cases::unit_values;
-
-/// The inverse's on-shape tolerance `2^(−p/2)`.
-fn tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
-}
-
-fn v3<T: Real>(p: [f64; 3]) -> Vec3<T> {
-    Vec3::new(T::from_f64(p[0]), T::from_f64(p[1]), T::from_f64(p[2]))
-}
+use light_cases::{tolerance, unit_values, v3};
 
 /// The rectangle of the fuzz case (corner, edges, observer).
 fn rectangle<T: Real>() -> SphericalRectangle<T> {
     SphericalRectangle::new(
-        v3([
+        v3(&[
             9.808279316793128e16,
             1.8625139445873542e17,
             -3.1670312939368545e18,
         ]),
-        v3([
+        v3(&[
             1.2058203238242654e17,
             -1.9428118135015866e17,
             -5.0610371909660504e16,
         ]),
-        v3([
+        v3(&[
             -1976913705970742.0,
             -2.934190524017652e16,
             1.0792648887001467e17,
         ]),
-        v3([
+        v3(&[
             -2.1314089496084532e16,
             3.6953855459814106e17,
             -3.087007233459982e18,

@@ -34,11 +34,6 @@ use std::collections::BTreeMap;
 mod light_cases;
 use light_cases::*;
 
-/// The inverse's on-shape tolerance `2^(−p/2)`.
-fn tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
-}
-
 /// What happened to the shapes of one variant and scalar.
 #[derive(Clone, Debug, Default)]
 struct Tally {

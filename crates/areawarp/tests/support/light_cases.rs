@@ -237,6 +237,11 @@ pub fn unit_values<T: Real>() -> [T; 6] {
     ]
 }
 
+/// The inverse's on-shape tolerance `2^(−p/2)`.
+pub fn tolerance<T: Real>() -> T {
+    T::exp2i(-((T::precision() / 2) as i32))
+}
+
 pub fn v3<T: Real>(a: &[f64; 3]) -> Vec3<T> {
     Vec3::new(T::from_f64(a[0]), T::from_f64(a[1]), T::from_f64(a[2]))
 }
