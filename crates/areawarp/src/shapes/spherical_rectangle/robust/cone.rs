@@ -82,12 +82,13 @@ impl<T: Real> Cone<T> {
     /// product `gᵢ` is formed from): where the observer lies nearly in the
     /// rectangle's plane the four faces nearly coincide (the cone is flat,
     /// its normals within 10⁻¹⁴ of each other or of their opposites), the
-    /// test `gⱼ − gᵢ(nᵢ·nⱼ)` is a difference of two nearly equal values, and its
-    /// sign is rounding: taken exactly, no face qualified and a direction
-    /// 10⁻⁷ from such a sliver was judged 0.07 away by its nearest corner
-    /// (`f32`, the light fuzz at seed 132). Within that slack the face's
-    /// distance `−gᵢ` is short of the exact one by at most about the
-    /// slack.
+    /// test `gⱼ − gᵢ(nᵢ·nⱼ)` is a difference of two nearly equal values,
+    /// and its sign is rounding: taken exactly, no face qualified and a
+    /// direction 10⁻⁷ from such a sliver was judged 0.07 away by its
+    /// nearest corner (`f32`, the light fuzz at seed 132). Within that
+    /// slack the face's distance `−gᵢ` is short of the exact one by at
+    /// most about the slack (≤ 32u: `Sᵢ ≤ 1`). Derivation:
+    /// `docs/spherical-rectangle.md`, item 9.
     pub fn outside_local(&self, a: &T, b: &T, c: &T) -> T {
         let zero = T::zero();
         let z = -c.clone();
