@@ -100,7 +100,9 @@ const COS_W: [f64; 5] = [
 ];
 
 /// `(r cos 2πv, r sin 2πv)` for `v ∈ [0, 1]` ([`Real::polar_turns`]),
-/// the values of the generic route bit for bit, with fewer operations.
+/// the values of the generic route bit for bit (except the sign of a
+/// zero: a zero coordinate is `+0` here, where the rotation of the generic
+/// route can give `−0` at `r = 0`), with fewer operations.
 ///
 /// The generic route splits `4v` into the integer `q` nearest it and
 /// `x = 4v − q`; here `v + 1.5·2^21` rounds `v` to a multiple `q/4` of ¼
@@ -112,23 +114,30 @@ const COS_W: [f64; 5] = [
 /// scaled by powers of two ([`SIN_W`], [`COS_W`]): every intermediate is
 /// the generic one times a power of two (no underflow: `w² ≥ 2^-300`
 /// unless `w = 0`), so the sine and cosine are the same `f64` values.
-/// `r·cos(qπ/2)` and `r·sin(qπ/2)` (exact) are formed in `f64` from an
-/// `f64` table, not converted to `f32` and back, and the point is rotated
-/// and rounded to `f32` once per coordinate as in [`rotate_f32`]. NaN `v`
-/// gives NaN coordinates.
+/// The generic route rotates `(r cos(qπ/2), r sin(qπ/2))`, one of whose
+/// coordinates is `±0`, by `(c, s)`: each coordinate is `±r·c` or `±r·s`
+/// exactly before its rounding to `f32`. Here `r·c` and `r·s` are formed
+/// in `f64` and rounded once each (rounding commutes with negation), and
+/// the quarter turns are swaps and negations selected by the bits of `q`
+/// (no table, no products by 0 and ±1; `+ 0.0` turns `−0` into `+0`, as
+/// the rotation's sums do for `r > 0`). NaN `v` gives NaN coordinates.
 ///
 /// [`Real::polar_turns`]: super::Real::polar_turns
 #[inline(always)]
 pub(crate) fn polar_turns_f32(v: f32, r: f32) -> (f32, f32) {
-    /// `(cos(qπ/2), sin(qπ/2))` by `q mod 4`.
-    const CS_Q: [[f64; 2]; 4] = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
     // 1.5·2^21.
     let rounder = (3u32 << 20) as f32;
     let shifted = v + rounder;
-    let [cq, sq] = CS_Q[(shifted.to_bits() & 3) as usize];
+    let q = shifted.to_bits() & 3;
     let w = (v - (shifted - rounder)) as f64;
     let (s, c) = sin_cos_poly(w, &SIN_W, &COS_W);
-    rotate_rounded(s, c, r as f64 * cq, r as f64 * sq)
+    let r = r as f64;
+    let (rc, rs) = ((r * c) as f32, (r * s) as f32);
+    // i^q·(rc + i·rs): an odd q swaps (one quarter turn), q ≥ 2 negates
+    // (a half turn).
+    let (x, y) = if q & 1 == 0 { (rc, rs) } else { (-rs, rc) };
+    let (x, y) = if q & 2 == 0 { (x, y) } else { (-x, -y) };
+    (x + 0.0, y + 0.0)
 }
 
 /// π/2 rounded to 24 bits (`f32`'s π/2): `xh·SIN64_HI` is exact for a
@@ -277,6 +286,13 @@ mod tests {
                     "v = {v:e}, r = {r}: ({x:e}, {y:e}) vs ({gx:e}, {gy:e})"
                 );
             }
+            // At r = 0 both are zeros; here always +0.
+            let (x, y) = polar_turns_f32(v, 0.0);
+            let (gx, gy) = polar_generic(v, 0.0);
+            assert!(
+                x == gx && y == gy && x.to_bits() == 0 && y.to_bits() == 0,
+                "v = {v:e}, r = 0: ({x:e}, {y:e}) vs ({gx:e}, {gy:e})"
+            );
         }
         assert!(polar_turns_f32(f32::NAN, 1.0).0.is_nan());
     }
