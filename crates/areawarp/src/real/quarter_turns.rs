@@ -102,7 +102,8 @@ const COS_W: [f64; 5] = [
 /// `(r cos 2πv, r sin 2πv)` for `v ∈ [0, 1]` ([`Real::polar_turns`]),
 /// the values of the generic route bit for bit (except the sign of a
 /// zero: a zero coordinate is `+0` here, where the rotation of the generic
-/// route can give `−0` at `r = 0`), with fewer operations.
+/// route can give `−0` at `r = 0` or for a negative `r`), with fewer
+/// operations.
 ///
 /// The generic route splits `4v` into the integer `q` nearest it and
 /// `x = 4v − q`; here `v + 1.5·2^21` rounds `v` to a multiple `q/4` of ¼
