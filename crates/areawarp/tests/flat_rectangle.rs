@@ -12,7 +12,7 @@ use areawarp::{Real, Warp};
 
 #[path = "support/light_cases.rs"]
 mod light_cases;
-use light_cases::{tolerance, unit_values, v3};
+use light_cases::{unit_values, v3};
 
 /// The rectangle of the fuzz case (corner, edges, observer).
 fn rectangle<T: Real>() -> SphericalRectangle<T> {
@@ -42,7 +42,8 @@ fn rectangle<T: Real>() -> SphericalRectangle<T> {
 }
 
 /// Every sample at the fuzz's values of `u`, `v` lies on the rectangle by
-/// its own `outside_by` and is accepted by its inverse; a direction moved
+/// its own `outside_by` (within its `on_shape_tolerance`, 2^(−p/2)) and is
+/// accepted by its inverse; a direction moved
 /// off the sliver by δ (along the rectangle's normal, across the flat cone)
 /// is judged δ away to 10 %, so the rounding slack of the face tests does
 /// not hide a real distance.
@@ -54,7 +55,7 @@ fn check<T: Real>() {
             let d = w.map(&u, &v);
             let off = w.outside_by(&d);
             assert!(
-                off <= tolerance::<T>(),
+                off <= w.on_shape_tolerance(),
                 "u = {u:?}, v = {v:?}: outside_by {off:?}"
             );
             assert!(
@@ -62,8 +63,7 @@ fn check<T: Real>() {
                 "u = {u:?}, v = {v:?}: refused by the inverse"
             );
             for delta in [T::exp2i(-10), T::exp2i(-6)] {
-                let moved = d.add(&n.scale(&delta));
-                let moved = moved.scale(&(T::one() / &moved.norm()));
+                let moved = d.add(&n.scale(&delta)).normalized().expect("a unit vector");
                 let judged = w.outside_by(&moved) / &delta;
                 assert!(
                     judged >= T::from_ratio(9, 10) && judged <= T::from_ratio(11, 10),

@@ -100,12 +100,14 @@ impl<T: Real> Cone<T> {
         if g.iter().all(|gi| *gi >= zero) {
             return zero;
         }
-        // Σₖ |nₖ wₖ|: the scale of the rounding error of n·ŵ.
-        let abs_dot = |n: &[T; 3]| {
+        // Sᵢ = Σₖ |nᵢₖ wₖ|, the scale of the rounding error of gᵢ: once per
+        // face (each enters the tests of up to three faces).
+        let scale: [T; 4] = core::array::from_fn(|i| {
+            let n = &self.normals[i];
             (n[0].clone() * &w[0]).abs()
                 + &(n[1].clone() * &w[1]).abs()
                 + &(n[2].clone() * &w[2]).abs()
-        };
+        });
         let slack_unit = T::from_i64(16) * &T::unit_roundoff();
         let mut best = T::one();
         for i in 0..4 {
@@ -117,8 +119,7 @@ impl<T: Real> Cone<T> {
             let adjacent = if i < 2 { [2, 3] } else { [0, 1] };
             let on_face = adjacent.iter().all(|&j| {
                 let nij = &self.normal_dots[i.min(j) * 2 + (i.max(j) - 2)];
-                let slack =
-                    slack_unit.clone() * &(abs_dot(&self.normals[i]) + &abs_dot(&self.normals[j]));
+                let slack = slack_unit.clone() * &(scale[i].clone() + &scale[j]);
                 g[j].clone() - &(g[i].clone() * nij) >= -slack
             });
             if on_face && -g[i].clone() < best {
