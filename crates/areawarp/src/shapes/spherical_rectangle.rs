@@ -23,7 +23,7 @@ pub use recipe::SphericalRectangleRecipe;
 use super::turns::clamp_unit;
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::turns::positive;
+use crate::shapes::turns::{on_shape_tolerance, positive};
 use crate::shapes::wide::widen3;
 use crate::vector::Vec3;
 use crate::warp::InverseError;
@@ -94,12 +94,6 @@ fn clamp01<T: Real>(x: &T) -> T {
     } else {
         x.clamp(&T::zero(), &T::one())
     }
-}
-
-/// How far off the shape a direction may lie for `inverse` and `pdf` to
-/// accept it: `2^(−p/2)` (sine of the angle) for a `p`-bit type.
-fn on_shape_tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
 }
 
 /// Uniform directions (in solid angle) towards a planar rectangle, seen from

@@ -24,7 +24,7 @@ pub use recipe::SphericalTriangleRecipe;
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::light_plane::LightPlane;
-use crate::shapes::turns::clamp_unit;
+use crate::shapes::turns::{clamp_unit, on_shape_tolerance};
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
@@ -558,12 +558,6 @@ impl<T: Real> SphericalTriangle<T> {
     pub fn contains(&self, p: &Vec3<T>) -> bool {
         self.outside_by(p) <= on_shape_tolerance::<T>()
     }
-}
-
-/// How far off a shape a point may lie for `inverse` to accept it:
-/// `2^(−p/2)` for a `p`-bit type.
-fn on_shape_tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
 }
 
 impl<T: Real> Warp<T> for SphericalTriangle<T> {
