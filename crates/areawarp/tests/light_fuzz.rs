@@ -48,6 +48,11 @@ struct Tally {
     max_outside_ulps: f64,
     /// The first offending case.
     first: Option<String>,
+    /// The case and `(u, v)` of the largest `outside_by`: where `bad_sample`
+    /// sets a new maximum it leaves the `(u, v)` in `worst_at`, and the
+    /// caller names the case.
+    worst: Option<String>,
+    worst_at: Option<String>,
     /// `(tried, accepted, off the shape)` per kind of case.
     by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
 }
@@ -88,6 +93,7 @@ fn bad_sample<T: Real, W: Warp<T, Point = Vec3<T>>>(
                 let ulps = (out.clone() / &ut).to_f64();
                 if ulps > tally.max_outside_ulps {
                     tally.max_outside_ulps = ulps;
+                    tally.worst_at = Some(format!("u = {u}, v = {v}: {ulps:.2} u"));
                 }
                 if out > tolerance::<T>() {
                     Some("off the shape")
@@ -153,7 +159,11 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         let scale = a.norm() + p.norm() + o.norm();
         (off > tolerance::<T>().to_f64() * scale).then(|| format!("point {off:e} off the plane"))
     };
-    if let Some(why) = bad_sample(&w, extra, t) {
+    let bad = bad_sample(&w, extra, t);
+    if let Some(at) = t.worst_at.take() {
+        t.worst = Some(format!("{case:?} at {at}"));
+    }
+    if let Some(why) = bad {
         t.off_shape += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
@@ -195,7 +205,11 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
         }
         None
     };
-    if let Some(why) = bad_sample(&w, extra, t) {
+    let bad = bad_sample(&w, extra, t);
+    if let Some(at) = t.worst_at.take() {
+        t.worst = Some(format!("{case:?} at {at}"));
+    }
+    if let Some(why) = bad {
         t.off_shape += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
@@ -234,7 +248,11 @@ fn run_sphere<T: Real>(case: &SphereCase, t: &mut Tally) {
         }
         None
     };
-    if let Some(why) = bad_sample(&w, extra, t) {
+    let bad = bad_sample(&w, extra, t);
+    if let Some(at) = t.worst_at.take() {
+        t.worst = Some(format!("{case:?} at {at}"));
+    }
+    if let Some(why) = bad {
         t.off_shape += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
@@ -253,6 +271,9 @@ fn print(title: &str, tallies: &Tallies) {
         println!("    by kind (tried, accepted, off): {:?}", t.by_kind);
         if let Some(f) = &t.first {
             println!("    first: {f}");
+        }
+        if let Some(w) = &t.worst {
+            println!("    largest outside_by: {w}");
         }
     }
 }

@@ -44,6 +44,11 @@ struct Tally {
     /// Largest `outside_by` of a sample, in units of roundoff.
     max_outside_ulps: f64,
     first: Option<String>,
+    /// The case and `(u, v)` of the largest `outside_by`: where `bad_sample`
+    /// sets a new maximum it leaves the `(u, v)` in `worst_at`, and the
+    /// caller names the case.
+    worst: Option<String>,
+    worst_at: Option<String>,
     /// `(tried, accepted, bad)` per kind of case.
     by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
     /// Rejected by a narrow type for a reason other than "unrepresentable"
@@ -90,7 +95,10 @@ fn bad_sample<T: Real>(
         } else {
             let out = w.outside_by(&p);
             let ulps = (out.clone() / &T::unit_roundoff()).to_f64();
-            t.max_outside_ulps = t.max_outside_ulps.max(ulps);
+            if ulps > t.max_outside_ulps {
+                t.max_outside_ulps = ulps;
+                t.worst_at = Some(format!("u = {u:?}, v = {v:?}: {ulps:.2} u"));
+            }
             if !(out <= tol) {
                 Some(format!("off the polygon by {out:?} (tolerance {tol:?})"))
             } else if let Err(e) = w.inverse(&p) {
@@ -172,7 +180,11 @@ fn run<T: Real>(
     };
     t.accepted += 1;
     t.by_kind.entry(case.kind).or_default().1 += 1;
-    if let Some(why) = bad_sample(&w, extra, t) {
+    let bad = bad_sample(&w, extra, t);
+    if let Some(at) = t.worst_at.take() {
+        t.worst = Some(format!("{case:?} at {at}"));
+    }
+    if let Some(why) = bad {
         t.bad += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
@@ -232,6 +244,9 @@ fn report_and_check(tallies: &BTreeMap<String, Tally>) {
         println!("    by kind (tried, accepted, bad): {:?}", t.by_kind);
         if let Some(f) = &t.first {
             println!("    first: {f}");
+        }
+        if let Some(w) = &t.worst {
+            println!("    largest outside_by: {w}");
         }
     }
     for (k, t) in tallies {
