@@ -325,6 +325,13 @@ struct UsableArc<'a, T> {
     cs: [(T, T); 2],
     /// Indices of the (merged) meridians of its start and end.
     ends: (usize, usize),
+    /// r = √(x² + y²) of its start and end ([`meridian`]; 0 next to the
+    /// pole).
+    r: [T; 2],
+    /// Whether the edge's g at its start and end is ill-conditioned
+    /// ([`g_is_ill_conditioned`]): where [`vertex_g`] takes g from the
+    /// point.
+    steep: [bool; 2],
     /// Its index among the clipped arcs.
     index: usize,
     /// The lunes it crosses: `count` lunes from number `first` on,
@@ -332,21 +339,59 @@ struct UsableArc<'a, T> {
     span: (usize, usize),
 }
 
-/// The azimuth of the point `p` (off the pole) and its (cos, sin), the
+/// The azimuth of the point `p` (off the pole), its (cos, sin), the
 /// latter from `p` itself: a square root, not a `sin_cos` of the rounded
 /// angle (the fallback for a point within 10⁻⁶⁴-ish of the pole, where
-/// x² + y² could underflow).
-fn meridian<T: Real>(p: &Vec3<T>) -> (T, (T, T)) {
+/// x² + y² could underflow), and there r = √(x² + y²) (0 in the fallback),
+/// from which an edge ending at `p` may take its g ([`vertex_g`]).
+fn meridian<T: Real>(p: &Vec3<T>) -> (T, (T, T), T) {
     let az = atan2_by_atan(&p.y, &p.x);
     let r2 = p.x.square() + &p.y.square();
-    let cs = if r2 > T::unit_roundoff().powi(8) {
+    if r2 > T::unit_roundoff().powi(8) {
         let r = r2.sqrt();
-        (p.x.clone() / &r, p.y.clone() / &r)
+        (az, (p.x.clone() / &r, p.y.clone() / &r), r)
     } else {
         let (s, c) = az.sin_cos();
-        (c, s)
+        (az, (c, s), T::zero())
+    }
+}
+
+/// Whether the edge with normal z-component `nz` places its point at its
+/// end point `(z, r)` (unit, `r = √(x² + y²)`) with a relative error above
+/// 16u in r² or in z² when g is summed from the normal: that sum
+/// `g₀ = n_x cos φ + n_y sin φ` has an absolute error of about u, and with
+/// `|g| = |n_z z|/r` there it moves `r² = n_z²/(n_z² + g²)` by about
+/// `2u|z| r/|n_z|` and `z² = g²/(n_z² + g²)` by about `2u r³/(|n_z z|)`,
+/// relative. So `8|n_z| < |z| r` (an edge nearly along a meridian) or
+/// `8|n_z z| < r³` (also a point next to the horizon, where z² carries the
+/// position). `false` at `r = 0` (the pole: no g from the point).
+fn g_is_ill_conditioned<T: Real>(nz: &T, z: &T, r: &T) -> bool {
+    let eight_nz = nz.abs() * &T::from_i64(8);
+    let abs_z = z.abs();
+    *r > T::zero() && (eight_nz < abs_z.clone() * r || eight_nz * &abs_z < r.square() * r)
+}
+
+/// g at the end point V of the arc `ua` that lies on the meridian number
+/// `meridian` (at azimuth `at`), taken from V: `−n_z z/r` (`n ⊥ V`,
+/// `r = √(x² + y²)`), with which the edge's point there is V whatever the
+/// error of n_z (`r² = n_z²/(n_z² + n_z² z²/r²) = r²_V`, and z² alike).
+/// `None` where no end of the arc lies on the meridian, where the edge's
+/// own sum g₀ is accurate enough there ([`g_is_ill_conditioned`]), and
+/// where the meridian is not at V's own azimuth (V merged into a
+/// neighbour's meridian lies beside it). Derivation:
+/// `docs/projected-polygon.md` (Numerics).
+fn vertex_g<T: Real>(ua: &UsableArc<'_, T>, meridian: usize, at: &T) -> Option<T> {
+    let (end, v, az) = if ua.ends.0 == meridian {
+        (0, &ua.arc.a, &ua.az.0)
+    } else if ua.ends.1 == meridian {
+        (1, &ua.arc.b, &ua.az.1)
+    } else {
+        return None;
     };
-    (az, cs)
+    if !ua.steep[end] || az != at {
+        return None;
+    }
+    Some(-(ua.arc.n.z.clone() * &v.z) / &ua.r[end])
 }
 
 /// `true` if `p` is the pole (no azimuth).
@@ -373,12 +418,14 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
         .enumerate()
         .filter(|(_, a)| a.n.z != zero && !at_pole(&a.a) && !at_pole(&a.b))
     {
-        let (az_b, cs_b) = meridian(&a.b);
+        let (az_b, cs_b, r_b) = meridian(&a.b);
         usable.push(UsableArc {
             arc: a,
             az: (T::zero(), az_b),
             cs: [(T::zero(), T::zero()), cs_b],
             ends: (0, 0),
+            r: [T::zero(), r_b],
+            steep: [false, false],
             index,
             span: (0, 0),
         });
@@ -386,13 +433,23 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
     let nu = usable.len();
     for i in 0..nu {
         let prev = prev(i, nu);
-        let (az_a, cs_a) = if usable[prev].arc.b == usable[i].arc.a {
-            (usable[prev].az.1.clone(), usable[prev].cs[1].clone())
+        let (az_a, cs_a, r_a) = if usable[prev].arc.b == usable[i].arc.a {
+            (
+                usable[prev].az.1.clone(),
+                usable[prev].cs[1].clone(),
+                usable[prev].r[1].clone(),
+            )
         } else {
             meridian(&usable[i].arc.a)
         };
-        usable[i].az.0 = az_a;
-        usable[i].cs[0] = cs_a;
+        let a = &mut usable[i];
+        a.az.0 = az_a;
+        a.cs[0] = cs_a;
+        a.r[0] = r_a;
+        a.steep = [
+            g_is_ill_conditioned(&a.arc.n.z, &a.arc.a.z, &a.r[0]),
+            g_is_ill_conditioned(&a.arc.n.z, &a.arc.b.z, &a.r[1]),
+        ];
     }
     // Vertex meridians. Azimuths within rounding of each other (an edge
     // lying along a meridian, computed with n_z a few units of roundoff off
@@ -540,6 +597,16 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
                     ua.index,
                     [end_on(k), end_on(next(k, m))],
                 ));
+                // Where the arc ends on a side's own meridian, the map's
+                // g there from the end point (`vertex_g`).
+                if ua.steep[0] || ua.steep[1] {
+                    let last = edges.len() - 1;
+                    for (si, meridian) in [(0, k), (1, next(k, m))] {
+                        if let Some(g) = vertex_g(ua, meridian, &bounds[meridian].0) {
+                            edges[last].side[si].gv = g;
+                        }
+                    }
+                }
             }
         }
         let arc_of = &mut arc_of[..ne];

@@ -38,6 +38,11 @@ pub(super) struct EdgeSide<T> {
     pub g0: T,
     /// dg/dx there.
     pub k0: T,
+    /// g at the side's meridian as the map's intervals place the edge's
+    /// points: `g0`, except where the edge's own end V lies on that
+    /// meridian (at V's own azimuth) and the sum g₀ is ill-conditioned,
+    /// where it is `−n_z z_V/r_V` (`build::vertex_g`).
+    pub gv: T,
 }
 
 /// An edge crossing a lune.
@@ -62,7 +67,9 @@ pub(super) struct LuneEdge<T> {
 impl<T: Real> LuneEdge<T> {
     /// The edge's constants for the lune `[a, b]` (given by the cosines and
     /// sines of its ends) from the great circle's unit normal `n`; `arc`
-    /// and `arc_end` as the fields.
+    /// and `arc_end` as the fields. [`EdgeSide::gv`] is `g₀` here; the
+    /// constructor replaces it at the arc's own end point where `g₀` is
+    /// ill-conditioned (`build::vertex_g`).
     pub fn new(n: [&T; 3], a: (&T, &T), b: (&T, &T), arc: usize, arc_end: [ArcEnd; 2]) -> Self {
         let [nx, ny, nz] = n;
         let nz2 = nz.square();
@@ -70,6 +77,7 @@ impl<T: Real> LuneEdge<T> {
             let g0 = nx.clone() * cos + &(ny.clone() * sin);
             let k = ny.clone() * cos - &(nx.clone() * sin);
             EdgeSide {
+                gv: g0.clone(),
                 g0,
                 k0: if sign { k } else { -k },
             }
@@ -89,6 +97,16 @@ impl<T: Real> LuneEdge<T> {
     fn g(&self, side: Side, c: &T, s: &T) -> (T, T) {
         let e = &self.side[side as usize];
         let g = e.g0.clone() * c + &(e.k0.clone() * s);
+        let den = self.nz2.clone() + &g.square();
+        (g, den)
+    }
+
+    /// `(g, n_z² + g²)` at side coordinate `(c, s)` as the map's intervals
+    /// place the edge's points (from [`EdgeSide::gv`]).
+    #[inline]
+    fn g_map(&self, side: Side, c: &T, s: &T) -> (T, T) {
+        let e = &self.side[side as usize];
+        let g = e.gv.clone() * c + &(e.k0.clone() * s);
         let den = self.nz2.clone() + &g.square();
         (g, den)
     }
@@ -242,8 +260,10 @@ impl<T: Real> Lune<T> {
         c: &T,
         s: &T,
     ) -> Interval<T> {
+        // The edges' points as the map places them: at an edge's own end
+        // vertex on the side's meridian exactly there ([`EdgeSide::gv`]).
         let o = &edges[pair.outer];
-        let (g_o, den_o) = o.g(side, c, s);
+        let (g_o, den_o) = o.g_map(side, c, s);
         let r_out = o.nz2.clone() / &den_o;
         let z_out = g_o.square() / &den_o;
         match pair.inner {
@@ -256,45 +276,11 @@ impl<T: Real> Lune<T> {
             },
             Some(i) => {
                 let e = &edges[i];
-                let (g_i, den_i) = e.g(side, c, s);
+                let (g_i, den_i) = e.g_map(side, c, s);
                 let len = self.pair_len(o, e, pair, side, (&g_o, &den_o), (&g_i, &den_i), c, s);
-                let r_in = e.nz2.clone() / &den_i;
-                let z_in = g_i.square() / &den_i;
-                if pair.shared[side as usize] {
-                    // The edges meet at the side's meridian (an extremal
-                    // vertex). An edge nearly along a meridian (small |n_z|)
-                    // places its points with a relative error ~u/|n_z| in
-                    // r², which moves them along the edge, except where the
-                    // interval closes at the vertex: there it is off the
-                    // polygon. Near the vertex one end is therefore taken
-                    // from the edge with the larger |n_z| and the other by
-                    // the length (`len` keeps its relative accuracy there:
-                    // D = B s, no cancellation), while the difference that
-                    // forms it keeps its own (`len` at most half the end it
-                    // is subtracted from).
-                    let two_len = len.clone() + &len;
-                    if e.abs_nz < o.abs_nz && two_len <= r_out {
-                        return Interval {
-                            r_in: r_out.clone() - &len,
-                            z_in: z_out.clone() + &len,
-                            r_out,
-                            z_out,
-                            len,
-                        };
-                    }
-                    if o.abs_nz < e.abs_nz && two_len <= z_in {
-                        return Interval {
-                            r_out: r_in.clone() + &len,
-                            z_out: z_in.clone() - &len,
-                            r_in,
-                            z_in,
-                            len,
-                        };
-                    }
-                }
                 Interval {
-                    r_in,
-                    z_in,
+                    r_in: e.nz2.clone() / &den_i,
+                    z_in: g_i.square() / &den_i,
                     r_out,
                     z_out,
                     len,

@@ -114,6 +114,7 @@ pub(super) fn narrow_parts<T: Real>(w: &Parts<T::Wide>) -> Parts<T> {
             side: [0, 1].map(|i| EdgeSide {
                 g0: n::<T>(&e.side[i].g0),
                 k0: n::<T>(&e.side[i].k0),
+                gv: n::<T>(&e.side[i].gv),
             }),
             arc: e.arc,
             arc_end: e.arc_end,
