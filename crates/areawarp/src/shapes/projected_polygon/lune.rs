@@ -92,23 +92,26 @@ impl<T: Real> LuneEdge<T> {
         }
     }
 
+    /// `(g, n_z² + g²)` at side coordinate `(c, s)`, from `g` at the
+    /// side's meridian `at_side` and the side's dg/dx.
+    #[inline]
+    fn g_from(&self, at_side: &T, side: Side, c: &T, s: &T) -> (T, T) {
+        let g = at_side.clone() * c + &(self.side[side as usize].k0.clone() * s);
+        let den = self.nz2.clone() + &g.square();
+        (g, den)
+    }
+
     /// `(g, n_z² + g²)` at side coordinate `(c, s)`.
     #[inline]
     fn g(&self, side: Side, c: &T, s: &T) -> (T, T) {
-        let e = &self.side[side as usize];
-        let g = e.g0.clone() * c + &(e.k0.clone() * s);
-        let den = self.nz2.clone() + &g.square();
-        (g, den)
+        self.g_from(&self.side[side as usize].g0, side, c, s)
     }
 
     /// `(g, n_z² + g²)` at side coordinate `(c, s)` as the map's intervals
     /// place the edge's points (from [`EdgeSide::gv`]).
     #[inline]
     fn g_map(&self, side: Side, c: &T, s: &T) -> (T, T) {
-        let e = &self.side[side as usize];
-        let g = e.gv.clone() * c + &(e.k0.clone() * s);
-        let den = self.nz2.clone() + &g.square();
-        (g, den)
+        self.g_from(&self.side[side as usize].gv, side, c, s)
     }
 
     /// r² = n_z²/(n_z² + g²) of the edge's point at side coordinate
