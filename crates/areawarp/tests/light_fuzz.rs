@@ -14,8 +14,9 @@
 //! distance with a finite positive area density (zero allowed at the sphere's
 //! rim) on the emitter: the triangle's plane (from points), the rectangle,
 //! the sphere. Counts of shapes tried / accepted / with a
-//! sample off the shape are printed per variant and scalar; the robust
-//! variants must have none off the shape.
+//! sample off the shape are printed per variant and scalar, with the first
+//! offending case and the case and `(u, v)` of the largest `outside_by`;
+//! the robust variants must have none off the shape.
 //!
 //! Fast sizes by default; `cargo test --release -p areawarp --test light_fuzz
 //! -- --ignored --nocapture` runs the large sizes.

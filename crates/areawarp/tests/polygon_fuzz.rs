@@ -11,7 +11,9 @@
 //! `on_shape_tolerance`), accepted by its own `inverse`, with a finite,
 //! non-negative density, and a light sample with a finite point, distance
 //! and area density. Counts of shapes tried / accepted / with a bad
-//! sample are printed per inversion and scalar; none may have a bad sample.
+//! sample are printed per inversion and scalar, with the first offending
+//! case and the case and `(u, v)` of the largest `outside_by`; none may
+//! have a bad sample.
 //! An `f32` constructor may reject only what `f64` rejects on the same
 //! (rounded) values, or call the polygon unrepresentable in `f32` (issue
 //! 13): both counts are printed, the first must be 0.
