@@ -8,7 +8,7 @@
 //!
 //! Every constructor either returns a typed error or a shape whose samples at
 //! `u, v ∈ {0, smallest subnormal, 1e-7, ½, 1 − ulp, 1}` are finite, on the
-//! shape by its own `outside_by` (within the on-shape tolerance `2^(−p/2)`
+//! shape by its own `outside_by` (within its `on_shape_tolerance`, the one
 //! its `inverse` uses), accepted by its own `inverse`, with a finite positive
 //! density, and whose light samples have a finite point at a finite positive
 //! distance with a finite positive area density (zero allowed at the sphere's
@@ -49,11 +49,8 @@ struct Tally {
     max_outside_ulps: f64,
     /// The first offending case.
     first: Option<String>,
-    /// The case and `(u, v)` of the largest `outside_by`: where `bad_sample`
-    /// sets a new maximum it leaves the `(u, v)` in `worst_at`, and the
-    /// caller names the case.
+    /// The case and `(u, v)` of the largest `outside_by`.
     worst: Option<String>,
-    worst_at: Option<String>,
     /// `(tried, accepted, off the shape)` per kind of case.
     by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
 }
@@ -74,12 +71,35 @@ impl Tally {
 
 type Tallies = BTreeMap<String, Tally>;
 
-/// Samples an accepted shape; returns a description of the first bad sample.
+/// Samples the accepted shape `w` of `case` (of kind `kind`) and records
+/// the result in `tally`: the largest `outside_by` and where, and the
+/// shape as off the shape if a sample is bad (its description kept if it
+/// is the first).
+fn check_samples<T: Real, W: Warp<T, Point = Vec3<T>>>(
+    w: &W,
+    (case, kind): (&dyn std::fmt::Debug, &'static str),
+    extra: impl Fn(&T, &T) -> Option<String>,
+    tally: &mut Tally,
+) {
+    if let Some(why) = bad_sample(w, case, extra, tally) {
+        tally.off_shape += 1;
+        tally.by_kind.entry(kind).or_default().2 += 1;
+        tally
+            .first
+            .get_or_insert_with(|| format!("{case:?}: {why}"));
+    }
+}
+
+/// The first bad sample of the accepted shape `w` of `case`, described;
+/// sets the tally's largest `outside_by` (and the case and `(u, v)` of it)
+/// on the way.
 fn bad_sample<T: Real, W: Warp<T, Point = Vec3<T>>>(
     w: &W,
+    case: &dyn std::fmt::Debug,
     extra: impl Fn(&T, &T) -> Option<String>,
     tally: &mut Tally,
 ) -> Option<String> {
+    let tol = w.on_shape_tolerance();
     let values = unit_values::<T>();
     let ut = T::unit_roundoff();
     for u in &values {
@@ -94,9 +114,9 @@ fn bad_sample<T: Real, W: Warp<T, Point = Vec3<T>>>(
                 let ulps = (out.clone() / &ut).to_f64();
                 if ulps > tally.max_outside_ulps {
                     tally.max_outside_ulps = ulps;
-                    tally.worst_at = Some(format!("u = {u}, v = {v}: {ulps:.2} u"));
+                    tally.worst = Some(format!("{case:?} at u = {u}, v = {v}: {ulps:.2} u"));
                 }
-                if out > tolerance::<T>() {
+                if out > tol {
                     Some("off the shape")
                 } else if w.inverse(&p).is_err() {
                     Some("refused by its inverse")
@@ -160,15 +180,7 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         let scale = a.norm() + p.norm() + o.norm();
         (off > tolerance::<T>().to_f64() * scale).then(|| format!("point {off:e} off the plane"))
     };
-    let bad = bad_sample(&w, extra, t);
-    if let Some(at) = t.worst_at.take() {
-        t.worst = Some(format!("{case:?} at {at}"));
-    }
-    if let Some(why) = bad {
-        t.off_shape += 1;
-        t.by_kind.entry(case.kind).or_default().2 += 1;
-        t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
-    }
+    check_samples(&w, (case, case.kind), extra, t);
 }
 
 fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVariant, t: &mut Tally) {
@@ -206,15 +218,7 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
         }
         None
     };
-    let bad = bad_sample(&w, extra, t);
-    if let Some(at) = t.worst_at.take() {
-        t.worst = Some(format!("{case:?} at {at}"));
-    }
-    if let Some(why) = bad {
-        t.off_shape += 1;
-        t.by_kind.entry(case.kind).or_default().2 += 1;
-        t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
-    }
+    check_samples(&w, (case, case.kind), extra, t);
 }
 
 fn run_sphere<T: Real>(case: &SphereCase, t: &mut Tally) {
@@ -249,15 +253,7 @@ fn run_sphere<T: Real>(case: &SphereCase, t: &mut Tally) {
         }
         None
     };
-    let bad = bad_sample(&w, extra, t);
-    if let Some(at) = t.worst_at.take() {
-        t.worst = Some(format!("{case:?} at {at}"));
-    }
-    if let Some(why) = bad {
-        t.off_shape += 1;
-        t.by_kind.entry(case.kind).or_default().2 += 1;
-        t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
-    }
+    check_samples(&w, (case, case.kind), extra, t);
 }
 
 fn print(title: &str, tallies: &Tallies) {

@@ -46,11 +46,8 @@ struct Tally {
     /// Largest `outside_by` of a sample, in units of roundoff.
     max_outside_ulps: f64,
     first: Option<String>,
-    /// The case and `(u, v)` of the largest `outside_by`: where `bad_sample`
-    /// sets a new maximum it leaves the `(u, v)` in `worst_at`, and the
-    /// caller names the case.
+    /// The case and `(u, v)` of the largest `outside_by`.
     worst: Option<String>,
-    worst_at: Option<String>,
     /// `(tried, accepted, bad)` per kind of case.
     by_kind: BTreeMap<&'static str, (usize, usize, usize)>,
     /// Rejected by a narrow type for a reason other than "unrepresentable"
@@ -73,9 +70,12 @@ fn why_rejected(e: &WarpError) -> String {
     }
 }
 
-/// The first bad sample of `w`, if any.
+/// The first bad sample of `w` (the polygon of `case`), if any; sets the
+/// tally's largest `outside_by` (and the case and `(u, v)` of it) on the
+/// way.
 fn bad_sample<T: Real>(
     w: &ProjectedPolygon<T>,
+    case: &PolygonCase,
     extra: &[(f64, f64)],
     t: &mut Tally,
 ) -> Option<String> {
@@ -99,7 +99,7 @@ fn bad_sample<T: Real>(
             let ulps = (out.clone() / &T::unit_roundoff()).to_f64();
             if ulps > t.max_outside_ulps {
                 t.max_outside_ulps = ulps;
-                t.worst_at = Some(format!("u = {u:?}, v = {v:?}: {ulps:.2} u"));
+                t.worst = Some(format!("{case:?} at u = {u:?}, v = {v:?}: {ulps:.2} u"));
             }
             if !(out <= tol) {
                 Some(format!("off the polygon by {out:?} (tolerance {tol:?})"))
@@ -182,11 +182,7 @@ fn run<T: Real>(
     };
     t.accepted += 1;
     t.by_kind.entry(case.kind).or_default().1 += 1;
-    let bad = bad_sample(&w, extra, t);
-    if let Some(at) = t.worst_at.take() {
-        t.worst = Some(format!("{case:?} at {at}"));
-    }
-    if let Some(why) = bad {
+    if let Some(why) = bad_sample(&w, case, extra, t) {
         t.bad += 1;
         t.by_kind.entry(case.kind).or_default().2 += 1;
         t.first.get_or_insert_with(|| format!("{case:?}: {why}"));
