@@ -328,10 +328,12 @@ struct UsableArc<'a, T> {
     /// r = √(x² + y²) of its start and end ([`meridian`]; 0 next to the
     /// pole).
     r: [T; 2],
-    /// Whether the edge's g at its start and end is ill-conditioned
-    /// ([`g_is_ill_conditioned`]): where [`vertex_g`] takes g from the
-    /// point.
-    steep: [bool; 2],
+    /// Whether the map takes the edge's g at its start and end from the
+    /// point ([`vertex_g`]): where g summed from the normal is
+    /// ill-conditioned there ([`g_is_ill_conditioned`]) and the end's
+    /// meridian is at the point's own azimuth (a point merged into a
+    /// neighbour's meridian lies beside it).
+    g_from_end: [bool; 2],
     /// Its index among the clipped arcs.
     index: usize,
     /// The lunes it crosses: `count` lunes from number `first` on,
@@ -372,26 +374,21 @@ fn g_is_ill_conditioned<T: Real>(nz: &T, z: &T, r: &T) -> bool {
 }
 
 /// g at the end point V of the arc `ua` that lies on the meridian number
-/// `meridian` (at azimuth `at`), taken from V: `−n_z z/r` (`n ⊥ V`,
-/// `r = √(x² + y²)`), with which the edge's point there is V whatever the
-/// error of n_z (`r² = n_z²/(n_z² + n_z² z²/r²) = r²_V`, and z² alike).
-/// `None` where no end of the arc lies on the meridian, where the edge's
-/// own sum g₀ is accurate enough there ([`g_is_ill_conditioned`]), and
-/// where the meridian is not at V's own azimuth (V merged into a
-/// neighbour's meridian lies beside it). Derivation:
+/// `meridian`, taken from V: `−n_z z/r` (`n ⊥ V`, `r = √(x² + y²)`), with
+/// which the edge's point there is V whatever the error of n_z
+/// (`r² = n_z²/(n_z² + n_z² z²/r²) = r²_V`, and z² alike). `None` where no
+/// end of the arc lies on the meridian and where the map keeps the edge's
+/// own sum g₀ there ([`UsableArc::g_from_end`]). Derivation:
 /// `docs/projected-polygon.md` (Numerics).
-fn vertex_g<T: Real>(ua: &UsableArc<'_, T>, meridian: usize, at: &T) -> Option<T> {
-    let (end, v, az) = if ua.ends.0 == meridian {
-        (0, &ua.arc.a, &ua.az.0)
+fn vertex_g<T: Real>(ua: &UsableArc<'_, T>, meridian: usize) -> Option<T> {
+    let (end, v) = if ua.ends.0 == meridian {
+        (0, &ua.arc.a)
     } else if ua.ends.1 == meridian {
-        (1, &ua.arc.b, &ua.az.1)
+        (1, &ua.arc.b)
     } else {
         return None;
     };
-    if !ua.steep[end] || az != at {
-        return None;
-    }
-    Some(-(ua.arc.n.z.clone() * &v.z) / &ua.r[end])
+    ua.g_from_end[end].then(|| -(ua.arc.n.z.clone() * &v.z) / &ua.r[end])
 }
 
 /// `true` if `p` is the pole (no azimuth).
@@ -425,7 +422,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
             cs: [(T::zero(), T::zero()), cs_b],
             ends: (0, 0),
             r: [T::zero(), r_b],
-            steep: [false, false],
+            g_from_end: [false, false],
             index,
             span: (0, 0),
         });
@@ -446,7 +443,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
         a.az.0 = az_a;
         a.cs[0] = cs_a;
         a.r[0] = r_a;
-        a.steep = [
+        a.g_from_end = [
             g_is_ill_conditioned(&a.arc.n.z, &a.arc.a.z, &a.r[0]),
             g_is_ill_conditioned(&a.arc.n.z, &a.arc.b.z, &a.r[1]),
         ];
@@ -498,6 +495,14 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
     };
     for a in usable.iter_mut() {
         a.ends = (index(&a.az.0), index(&a.az.1));
+        // g from the end point only at its own meridian (tested only for
+        // the rare ill-conditioned end).
+        if a.g_from_end[0] {
+            a.g_from_end[0] = a.az.0 == bounds[a.ends.0].0;
+        }
+        if a.g_from_end[1] {
+            a.g_from_end[1] = a.az.1 == bounds[a.ends.1].0;
+        }
     }
     let width = |k: usize| -> T {
         if k + 1 < m {
@@ -599,10 +604,10 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
                 ));
                 // Where the arc ends on a side's own meridian, the map's
                 // g there from the end point (`vertex_g`).
-                if ua.steep[0] || ua.steep[1] {
+                if ua.g_from_end[0] || ua.g_from_end[1] {
                     let last = edges.len() - 1;
                     for (si, meridian) in [(0, k), (1, next(k, m))] {
-                        if let Some(g) = vertex_g(ua, meridian, &bounds[meridian].0) {
+                        if let Some(g) = vertex_g(ua, meridian) {
                             edges[last].side[si].gv = g;
                         }
                     }
