@@ -43,7 +43,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let core = build::core_of(a, b, c)?;
-        Self::sample_core(&core, u, v)
+        Self::sample_core::<false>(&core, u, v)
     }
 
     /// [`SphericalTriangle::sample_once`] for the triangle the points `p0`,
@@ -63,7 +63,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let (_, core) = Self::from_points_core(p0, p1, p2, observer)?;
-        Self::sample_core(&core, u, v)
+        Self::sample_core::<false>(&core, u, v)
     }
 
     /// One light sample of the triangle with corners `p0`, `p1`, `p2` seen
@@ -108,15 +108,21 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<LightSample<T>, WarpError> {
         let (input, core) = Self::from_points_core(p0, p1, p2, observer)?;
-        let (d, pdf) = Self::sample_core(&core, u, v)?;
+        let (d, pdf) = Self::sample_core::<true>(&core, u, v)?;
         // The plane `from_points` builds (after every other check there,
         // so the same error comes first), of the same rounded directions.
         let plane = LightPlane::new(&input, &Vec3::zero(), &pdf, &pdf)?;
         Ok(plane.sample(d, pdf, observer))
     }
 
+    /// The sample of the validated `core` at `(u, v)` and its density; the
+    /// map inlined when `INLINE` (see [`robust::map_from_inlined`]).
     #[inline(always)]
-    fn sample_core(core: &Core<T::Wide>, u: &T, v: &T) -> Result<(Vec3<T>, T), WarpError> {
+    fn sample_core<const INLINE: bool>(
+        core: &Core<T::Wide>,
+        u: &T,
+        v: &T,
+    ) -> Result<(Vec3<T>, T), WarpError> {
         let Scalars {
             inv_omega,
             half_omega,
@@ -128,10 +134,12 @@ impl<T: Real> SphericalTriangle<T> {
             .ok_or_else(out_of_range)?;
         let b = narrow3::<T>(&core.v.b);
         let b_norm2 = build::norm2(&b);
-        Ok((
-            robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v),
-            inv_omega,
-        ))
+        let d = if INLINE {
+            robust::map_from_inlined(&anchor, &b, &b_norm2, &half_omega, u, v)
+        } else {
+            robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v)
+        };
+        Ok((d, inv_omega))
     }
 
     /// The solid angle Ω of the triangle with vertex directions `a`, `b`,
