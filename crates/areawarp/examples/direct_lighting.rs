@@ -85,7 +85,7 @@ fn irradiance<L: LightWarp<f32>>(light: &L, rng: &mut Lcg) -> f32 {
 }
 
 fn main() {
-    let o = Vec3::new(ORIGIN[0], ORIGIN[1], ORIGIN[2]);
+    let o = Vec3::from(ORIGIN);
     let normal = Vec3::new(0.0f32, 0.0, 1.0);
     let mut rng = Lcg(2024);
 
@@ -98,7 +98,7 @@ fn main() {
     let triangle = SphericalTriangle::from_points(tri[0], tri[1], tri[2], o)
         .expect("a non-degenerate triangle seen from off its plane");
     let e_tri = irradiance(&triangle, &mut rng);
-    let exact_tri = projected_solid_angle(&tri.map(|p| p.sub(&o)), &normal);
+    let exact_tri = projected_solid_angle(&tri.map(|p| p - o), &normal);
 
     // A rectangle light: corner, two perpendicular edges.
     let (corner, ex, ey) = (
@@ -108,14 +108,9 @@ fn main() {
     );
     let rectangle =
         SphericalRectangle::new(corner, ex, ey, o).expect("a rectangle seen from off its plane");
-    let quad = [
-        corner,
-        corner.add(&ex),
-        corner.add(&ex).add(&ey),
-        corner.add(&ey),
-    ];
+    let quad = [corner, corner + ex, corner + ex + ey, corner + ey];
     let e_rect = irradiance(&rectangle, &mut rng);
-    let exact_rect = projected_solid_angle(&quad.map(|p| p.sub(&o)), &normal);
+    let exact_rect = projected_solid_angle(&quad.map(|p| p - o), &normal);
 
     // One light sample, as a renderer would use it.
     let s = rectangle.sample_light([0.25, 0.75]);
