@@ -81,6 +81,19 @@ impl InverseError {
     }
 }
 
+/// How far off a shape of extent 1 a point may lie for `pdf` and `inverse`
+/// to count it as on the shape: `2^(−p/2)` for a `p`-bit type (`≈ 2.4e-4`
+/// in `f32`, `≈ 1.1e-8` in `f64`); [`Warp::on_shape_tolerance`] scales it
+/// by the shape's extent. The one definition for the shapes and the
+/// recipe's warps.
+///
+/// Generous on purpose: directions normalized elsewhere, or pushed through
+/// a few rotations, are "on the sphere" for every practical purpose, and the
+/// inverses re-normalize before they compute anything.
+pub(crate) fn on_shape_tolerance<T: Real>() -> T {
+    T::exp2i(-((T::precision() / 2) as i32))
+}
+
 /// An area-preserving parametrization ψ: \[0, 1\]² → M of a shape M,
 /// possibly weighted (Phong lobe, cosine).
 ///
@@ -147,7 +160,7 @@ pub trait Warp<T: Real> {
     /// [`Warp::extent`] for a `p`-bit scalar, far above the rounding errors
     /// of any computed point of the map and far below any real distance.
     fn on_shape_tolerance(&self) -> T {
-        T::exp2i(-((T::precision() / 2) as i32)) * &self.extent()
+        on_shape_tolerance::<T>() * &self.extent()
     }
     /// `(ψ(u, v), pdf(ψ(u, v)))` in one call: what a sampler needs. The
     /// default evaluates [`Warp::pdf_unchecked`] at the mapped point.

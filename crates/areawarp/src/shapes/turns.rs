@@ -122,15 +122,7 @@ pub(crate) fn positive<T: Real>(x: &T) -> bool {
     *x > T::zero()
 }
 
-/// How far off a shape a point may lie for `inverse` to accept it:
-/// `2^(−p/2)` for a `p`-bit type (`≈ 2.4e-4` in `f32`, `≈ 1.1e-8` in `f64`).
-///
-/// Generous on purpose: directions normalized elsewhere, or pushed through
-/// a few rotations, are "on the sphere" for every practical purpose, and the
-/// inverse re-normalizes before it computes anything.
-pub(crate) fn on_shape_tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
-}
+pub(crate) use crate::warp::on_shape_tolerance;
 
 #[cfg(test)]
 mod tests {

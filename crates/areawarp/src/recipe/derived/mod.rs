@@ -35,7 +35,7 @@ use super::{AreaDensity, MarginalConditional, Parametrization, Recipe, WarpDefin
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::vector::Vec3;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// What the construction of a derived warp computed.
 #[derive(Clone, Debug, PartialEq)]
@@ -493,11 +493,6 @@ impl<T: Real, P: WarpDefinition<T>> DerivedWarp<T, P> {
             self.recipe.conditional_cdf_of(&s, &t),
         ])
     }
-}
-
-/// 2^(−p/2): how far off the shape `inverse` and `pdf` accept a point.
-fn on_shape_tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
 }
 
 impl<T: Real, P: WarpDefinition<T>> Warp<T> for DerivedWarp<T, P> {

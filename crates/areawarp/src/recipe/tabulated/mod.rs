@@ -40,7 +40,7 @@ use super::{DerivedRecipe, DerivedWarp, WarpDefinition};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// What the construction of a table computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -290,11 +290,6 @@ impl<T: Real, P: WarpDefinition<T>> Cdf1<T> for ClosedInverse<'_, P> {
     fn pdf(&self, _u: &T) -> T {
         T::zero()
     }
-}
-
-/// 2^(−p/2).
-fn on_shape_tolerance<T: Real>() -> T {
-    T::exp2i(-((T::precision() / 2) as i32))
 }
 
 impl<T: Real, P: WarpDefinition<T>> Warp<T> for TabulatedWarp<T, P> {
