@@ -17,6 +17,16 @@
 use super::*;
 use crate::real::Mpfr256;
 
+/// The polygon of the directions `v` in f64 and, from the same values, at
+/// 256 bits.
+fn f64_and_exact(v: &[Vec3<f64>]) -> (ProjectedPolygon<f64>, ProjectedPolygon<Mpfr256>) {
+    let wide: Vec<Vec3<Mpfr256>> = v.iter().map(|p| p.convert()).collect();
+    (
+        ProjectedPolygon::new(v).unwrap(),
+        ProjectedPolygon::new(&wide).unwrap(),
+    )
+}
+
 /// Samples at `u` (the vertex's meridian) are on the polygon in f64 and at
 /// 256 bits and accepted by the inverse ([`assert_on_polygon`]).
 fn vertex_samples_on_polygon(w: &ProjectedPolygon<f64>, exact: &ProjectedPolygon<Mpfr256>, u: f64) {
@@ -71,8 +81,7 @@ fn nearly_coincident_hexagon_at_its_first_meridian() {
     ]
     .map(Vec3::from)
     .to_vec();
-    let w = ProjectedPolygon::new(&v).unwrap();
-    let exact = ProjectedPolygon::new(&v.iter().map(|p| p.convert()).collect::<Vec<_>>()).unwrap();
+    let (w, exact) = f64_and_exact(&v);
     vertex_samples_on_polygon(&w, &exact, 0.0);
 }
 
@@ -102,9 +111,7 @@ fn triangles_with_an_edge_next_to_the_pole() {
         (seed_304, [1.0, 1.0 - f64::EPSILON]),
     ] {
         let v: Vec<Vec3<f64>> = vertices.map(Vec3::from).to_vec();
-        let w = ProjectedPolygon::new(&v).unwrap();
-        let wide: Vec<Vec3<Mpfr256>> = v.iter().map(|p| p.convert()).collect();
-        let exact = ProjectedPolygon::new(&wide).unwrap();
+        let (w, exact) = f64_and_exact(&v);
         for u in us {
             vertex_samples_on_polygon(&w, &exact, u);
         }
@@ -144,9 +151,7 @@ fn pentagon_next_to_the_horizon() {
     ]
     .map(Vec3::from)
     .to_vec();
-    let w = ProjectedPolygon::new(&v).unwrap();
-    let wide: Vec<Vec3<Mpfr256>> = v.iter().map(|p| p.convert()).collect();
-    let exact = ProjectedPolygon::new(&wide).unwrap();
+    let (w, exact) = f64_and_exact(&v);
     vertex_samples_on_polygon(&w, &exact, 1.0);
 }
 
@@ -176,9 +181,7 @@ fn vertex_beside_its_merged_meridian() {
     ]
     .map(Vec3::from)
     .to_vec();
-    let w = ProjectedPolygon::new(&v).unwrap();
-    let wide: Vec<Vec3<Mpfr256>> = v.iter().map(|p| p.convert()).collect();
-    let exact = ProjectedPolygon::new(&wide).unwrap();
+    let (w, exact) = f64_and_exact(&v);
     let tol = 4.0 * f64::EPSILON / 2.0;
     for v in [0.0, 0.25, 0.5, 1.0] {
         let p = w.map(&1.0, &v);
