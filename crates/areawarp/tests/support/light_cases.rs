@@ -237,7 +237,11 @@ pub fn unit_values<T: Real>() -> [T; 6] {
     ]
 }
 
-/// The inverse's on-shape tolerance `2^(−p/2)`.
+/// `2^(−p/2)`, the library's on-shape tolerance for a shape of extent 1
+/// (crate-private there): the relative tolerance of the fuzz's point
+/// checks (a light sample's point on the triangle's plane, the rectangle
+/// or the sphere), times the case's scale. Directions are judged by each
+/// warp's own `on_shape_tolerance()`.
 pub fn tolerance<T: Real>() -> T {
     T::exp2i(-((T::precision() / 2) as i32))
 }
