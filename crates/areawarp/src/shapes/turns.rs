@@ -1,7 +1,7 @@
 //! Small numerical helpers shared by the spherical warps: the azimuth
 //! `φ = 2πv` evaluated without losing accuracy at the ends of `[0, 1]`, its
 //! inverse, `atan2` by libm's `atan` of the quotient ([`atan2_by_atan`],
-//! [`twice_atan2_nonneg`]), and the tolerance used to decide that a point
+//! [`atan2_nonneg`]), and the tolerance used to decide that a point
 //! lies on a shape.
 
 use crate::real::Real;
@@ -60,17 +60,16 @@ pub(crate) fn turns_of<T: Real>(y: &T, x: &T, inv_two_pi: &T) -> T {
     (v + &T::zero()).min(&(T::one() - &T::unit_roundoff()))
 }
 
-/// `2·atan2(y, x)` for `y ≥ 0` (a solid angle from its half-angle
-/// tangent): by [`atan2_by_atan`] where `x > 0` (the half angle below
-/// π/2), by libm's `atan2` where `x ≤ 0`.
+/// `atan2(y, x)` for `y ≥ 0` (half a solid angle from its tangent): by
+/// [`atan2_by_atan`] where `x > 0` (the angle below π/2), by libm's
+/// `atan2` where `x ≤ 0`.
 #[inline(always)]
-pub(crate) fn twice_atan2_nonneg<T: Real>(y: &T, x: &T) -> T {
-    let half = if *x > T::zero() {
+pub(crate) fn atan2_nonneg<T: Real>(y: &T, x: &T) -> T {
+    if *x > T::zero() {
         atan2_by_atan(y, x)
     } else {
         y.atan2(x)
-    };
-    half * &T::from_i64(2)
+    }
 }
 
 /// `atan2(y, x)` over the whole plane by libm's `atan` of the quotient,

@@ -23,7 +23,7 @@ mod cone;
 
 use super::geometry::{Geometry, length};
 use crate::real::Real;
-use crate::shapes::turns::{positive, twice_atan2_nonneg};
+use crate::shapes::turns::{atan2_nonneg, positive};
 use crate::shapes::wide::floor_log2;
 pub(super) use cone::Cone;
 
@@ -175,8 +175,9 @@ pub(super) struct Omega<T> {
     sdcd: T,
     sd2: T,
     cd2: T,
-    /// Ω.
+    /// Ω and Ω/2 (the arctangent; Ω is it doubled, exactly).
     pub omega: T,
+    half_omega: T,
 }
 
 impl<T: Real> Omega<T> {
@@ -257,7 +258,8 @@ impl<T: Real> Omega<T> {
         let sd2 = sd.square();
         let cd2 = cd.square();
         let dw = omega_diff(&lengths, &x0, &col0, &x1, &col1, &lx);
-        let omega = solid_angle_between(&sdcd, &sd2, &cd2, &col0, &col1, &dw);
+        let half_omega = half_solid_angle_between(&sdcd, &sd2, &cd2, &col0, &col1, &dw);
+        let omega = half_omega.clone() * &T::from_i64(2);
         Omega {
             x0,
             x1,
@@ -279,6 +281,7 @@ impl<T: Real> Omega<T> {
             sd2,
             cd2,
             omega,
+            half_omega,
         }
     }
 }
@@ -317,11 +320,25 @@ fn solid_angle_between<T: Real>(
     cb: &Column<T>,
     dw: &T,
 ) -> T {
+    half_solid_angle_between(sdcd, sd2, cd2, ca, cb, dw) * &T::from_i64(2)
+}
+
+/// Half of [`solid_angle_between`], the arctangent itself (which doubled
+/// is exactly that: the map's `Ω/2` is this value, not `(2·…)·½`).
+#[inline(always)]
+fn half_solid_angle_between<T: Real>(
+    sdcd: &T,
+    sd2: &T,
+    cd2: &T,
+    ca: &Column<T>,
+    cb: &Column<T>,
+    dw: &T,
+) -> T {
     let y = sdcd.clone() * dw;
     let x = cd2.clone() + &(sd2.clone() * &ca.w * &cb.w);
     // y ≥ 0: by atan(y/x) for x > 0 (half angle below π/2), about half
-    // of atan2's cost (see `twice_atan2_nonneg`).
-    twice_atan2_nonneg(&y, &x)
+    // of atan2's cost (see `atan2_nonneg`).
+    atan2_nonneg(&y, &x)
 }
 
 impl<T: Real> Robust<T> {
@@ -332,7 +349,6 @@ impl<T: Real> Robust<T> {
     #[inline(always)]
     pub fn from_omega(g: &Geometry<T>, o: Omega<T>, only_anchor: Option<usize>) -> Self {
         let two = T::from_i64(2);
-        let half = T::from_ratio(1, 2);
         let lengths = o.lengths();
         let sd = &o.sd;
         // σ = 2^k, k = −⌊log₂ S_d⌋: the anchors' sines of half angles that
@@ -367,7 +383,7 @@ impl<T: Real> Robust<T> {
             sd_scale,
             inv_scale2,
             sd_scaled,
-            half_omega: o.omega.clone() * &half,
+            half_omega: o.half_omega.clone(),
             parts: o,
         }
     }

@@ -10,7 +10,7 @@
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::turns::positive;
-use crate::shapes::turns::twice_atan2_nonneg;
+use crate::shapes::turns::atan2_nonneg;
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
@@ -127,8 +127,11 @@ pub(super) struct Validated<W> {
     pub k1a: W,
     /// det(A, B, C) (its sign the orientation, its magnitude d's numerator).
     pub det: W,
-    /// Ω (Van Oosterom–Strackee).
+    /// Ω (Van Oosterom–Strackee) and Ω/2, the arctangent itself (`2·(Ω/2)`
+    /// and `(2·(Ω/2))/2` are exact: the map's `h = u·Ω/2` does not wait on
+    /// two multiplications by 2 and ½ that cancel).
     pub omega: W,
+    pub half_omega: W,
 }
 
 impl<W: Real> Validated<W> {
@@ -203,8 +206,9 @@ impl<W: Real> Validated<W> {
         }
         let den = q_sum / &two + &third.dot(&sum);
         // Ω = 2 atan2(|det|, den), by atan(|det|/den) where that is exact
-        // enough (see `twice_atan2_nonneg`).
-        let omega = twice_atan2_nonneg(&det.abs(), &den);
+        // enough (see `atan2_nonneg`).
+        let half_omega = atan2_nonneg(&det.abs(), &den);
+        let omega = half_omega.clone() * &two;
         if !positive(&omega) {
             return Err(reject::UNDERFLOW);
         }
@@ -222,6 +226,7 @@ impl<W: Real> Validated<W> {
             k1a,
             det,
             omega,
+            half_omega,
         })
     }
 }
@@ -409,11 +414,10 @@ impl<T: Real> Scalars<T> {
         if !positive(&d) {
             return Err(reject::OUT_OF_RANGE);
         }
-        let two = <T::Wide as Real>::from_i64(2);
         Ok(Scalars {
             omega,
             inv_omega,
-            half_omega: T::narrow(&(core.v.omega.clone() / &two)),
+            half_omega: T::narrow(&core.v.half_omega),
             d,
         })
     }
