@@ -18,8 +18,8 @@
 //! of `one_shot_min.rs`. Instructions per sample:
 //! `(count(BATCH) − count(none)) / (256·REPS)`.
 
-use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use areawarp::Real;
+use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
 use std::hint::black_box;
 
 #[path = "support/one_shot_data.rs"]
@@ -74,7 +74,10 @@ fn batches<T: Real>(bits: &str) -> Vec<(String, Box<dyn Fn() -> f64>)> {
 fn main() {
     // `cargo bench` passes `--bench`: the first other argument names the
     // batch, a number sets the repetitions.
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
     let which = args.iter().find(|a| a.parse::<usize>().is_err());
     let reps = args.iter().find_map(|a| a.parse().ok()).unwrap_or(200);
     let mut all = batches::<f32>("32");

@@ -9,8 +9,8 @@
 
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::turns::positive;
 use crate::shapes::turns::atan2_nonneg;
+use crate::shapes::turns::positive;
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 
