@@ -30,7 +30,6 @@ use data::{
     triangle_one_shot, triangle_per_sample, triangle_textbook_one_shot, triangles,
 };
 #[path = "support/textbook_one_shot.rs"]
-#[allow(dead_code)]
 mod textbook;
 
 /// The batches of one scalar type, by name suffix (`32`, `64`).
