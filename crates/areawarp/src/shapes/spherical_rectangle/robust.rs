@@ -310,21 +310,9 @@ fn omega_diff<T: Real>(
     }
 }
 
-/// `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`.
-#[inline(always)]
-fn solid_angle_between<T: Real>(
-    sdcd: &T,
-    sd2: &T,
-    cd2: &T,
-    ca: &Column<T>,
-    cb: &Column<T>,
-    dw: &T,
-) -> T {
-    half_solid_angle_between(sdcd, sd2, cd2, ca, cb, dw) * &T::from_i64(2)
-}
-
-/// Half of [`solid_angle_between`], the arctangent itself (which doubled
-/// is exactly that: the map's `Ω/2` is this value, not `(2·…)·½`).
+/// Half of `Φ(x_b) − Φ(x_a) = 2 atan2(S_d C_d (ω_b − ω_a), C_d² + S_d² ω_a ω_b)`:
+/// the arctangent itself, which doubled (exactly) is the solid angle
+/// between the columns. The map's `Ω/2` is this value, not `(2·…)·½`.
 #[inline(always)]
 fn half_solid_angle_between<T: Real>(
     sdcd: &T,
@@ -388,10 +376,11 @@ impl<T: Real> Robust<T> {
         }
     }
 
-    /// [`solid_angle_between`] with this rectangle's `S_d`, `C_d`.
+    /// `Φ(x_b) − Φ(x_a)`: twice [`half_solid_angle_between`] with this
+    /// rectangle's `S_d`, `C_d`.
     fn between(&self, ca: &Column<T>, cb: &Column<T>, dw: &T) -> T {
         let o = &self.parts;
-        solid_angle_between(&o.sdcd, &o.sd2, &o.cd2, ca, cb, dw)
+        half_solid_angle_between(&o.sdcd, &o.sd2, &o.cd2, ca, cb, dw) * &T::from_i64(2)
     }
 
     /// Ω, from the quantities the constants were completed from.
