@@ -3,7 +3,7 @@
 
 use super::coincident::distinct;
 use super::geometry::{scaled_unit, unit_direction};
-use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit};
+use super::lune::{Lune, LuneCdf, LuneEdge, Pair, Side, SideFit, sin_cos_between};
 use super::ranges::ArcEnd;
 use crate::error::WarpError;
 use crate::real::Real;
@@ -616,14 +616,10 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
         }
         let arc_of = &mut arc_of[..ne];
         let lune_edges = &mut edges[first_edge..];
-        // (sin Δ, cos Δ): the area below, and the middle meridian by the
-        // half-angle formulas (each from the side without cancellation).
-        let (s1, c1) = if lune_edges.is_empty() {
-            // A lune the polygon does not cover: no area, no sort.
-            (zero.clone(), T::one())
-        } else {
-            w.sin_cos()
-        };
+        // (sin Δ, cos Δ) from the two meridians (no library call): the
+        // area below, and the middle meridian by the half-angle formulas
+        // (each from the side without cancellation).
+        let (s1, c1) = sin_cos_between((&cos_a, &sin_a), (&cos_b, &sin_b));
         // Sort outwards at the middle meridian; check the order at the ends.
         let (sm, cm) = if lune_edges.len() < 2 {
             (zero.clone(), T::one())
@@ -771,6 +767,7 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
             width: w.clone(),
             cs_a: (cos_a, sin_a),
             cs_b: (cos_b, sin_b),
+            width_sc: (s1.clone(), c1.clone()),
             two_area_start: zero.clone(),
             two_area_end: std::sync::OnceLock::new(),
             area: zero.clone(),

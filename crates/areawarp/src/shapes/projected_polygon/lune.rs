@@ -171,6 +171,12 @@ pub(super) struct Lune<T> {
     pub cs_a: (T, T),
     /// (cos b, sin b).
     pub cs_b: (T, T),
+    /// (sin Δ, cos Δ), from (cos a, sin a) and (cos b, sin b) by the
+    /// subtraction formulas ([`sin_cos_between`]): the side coordinate's
+    /// sine and cosine at the far meridian, with which the lune's area is
+    /// summed (from either side) and its marginals evaluated there
+    /// ([`Lune::sin_cos_at`]), so that they reach 1 exactly.
+    pub width_sc: (T, T),
     /// 2 × the projected area of the polygon inside the lune (0 if empty),
     /// as summed from the start.
     pub two_area_start: T,
@@ -224,7 +230,31 @@ fn alpha_minus_sin<T: Real>(a: &T) -> T {
     sum
 }
 
+/// `(sin(b − a), cos(b − a))` from `(cos a, sin a)` and `(cos b, sin b)`:
+/// four products, no library call. Each result has an absolute error of
+/// a few units of roundoff, as `sin_cos` of the rounded difference of the
+/// two azimuths has (whose own rounding is about u·|a|); a lune thinner
+/// than `16πu` is never formed (the partition merges such meridians).
+pub(super) fn sin_cos_between<T: Real>((ca, sa): (&T, &T), (cb, sb): (&T, &T)) -> (T, T) {
+    (
+        sb.clone() * ca - &(cb.clone() * sa),
+        cb.clone() * ca + &(sb.clone() * sa),
+    )
+}
+
 impl<T: Real> Lune<T> {
+    /// `(sin x, cos x)` of the side coordinate `x ∈ [0, Δ]`: at the far
+    /// meridian (`x ≥ Δ`) the lune's own [`Lune::width_sc`], elsewhere
+    /// `x.sin_cos()`.
+    #[inline]
+    pub fn sin_cos_at(&self, x: &T) -> (T, T) {
+        if *x >= self.width {
+            self.width_sc.clone()
+        } else {
+            x.sin_cos()
+        }
+    }
+
     /// 2 × the projected area inside the lune, as summed from `side` (the
     /// end's sum computed on first use; where rounding leaves it at zero
     /// while the start's is positive, a sliver lune, the start's is used).
@@ -237,7 +267,7 @@ impl<T: Real> Lune<T> {
                     if self.n_edges == 0 {
                         return T::zero();
                     }
-                    let (s, c) = self.width.sin_cos();
+                    let (s, c) = self.width_sc.clone();
                     let a = self.swept(edges, pairs, Side::End, &c, &s).max(&T::zero());
                     if a > T::zero() {
                         a
@@ -518,12 +548,12 @@ pub(super) struct LuneCdf<'a, T> {
 
 impl<T: Real> Cdf1<T> for LuneCdf<'_, T> {
     fn cdf(&self, x: &T) -> T {
-        let (s, c) = x.sin_cos();
+        let (s, c) = self.lune.sin_cos_at(x);
         self.lune.swept(self.edges, self.pairs, self.side, &c, &s)
             / &self.lune.two_area(self.edges, self.pairs, self.side)
     }
     fn pdf(&self, x: &T) -> T {
-        let (s, c) = x.sin_cos();
+        let (s, c) = self.lune.sin_cos_at(x);
         self.lune.chord(self.edges, self.pairs, self.side, &c, &s)
             / &self.lune.two_area(self.edges, self.pairs, self.side)
     }

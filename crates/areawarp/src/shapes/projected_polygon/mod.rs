@@ -630,7 +630,7 @@ impl<T: Real> ProjectedPolygon<T> {
         } else {
             (Side::End, lune.end_az.clone() - p)
         };
-        let (s, c) = x.clamp(&T::zero(), &lune.width).sin_cos();
+        let (s, c) = lune.sin_cos_at(&x.clamp(&T::zero(), &lune.width));
         (side, c, s)
     }
 

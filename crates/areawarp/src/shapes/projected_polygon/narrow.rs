@@ -143,6 +143,7 @@ pub(super) fn narrow_parts<T: Real>(w: &Parts<T::Wide>) -> Parts<T> {
                 width: n::<T>(&l.width),
                 cs_a: n2::<T>(&l.cs_a),
                 cs_b: n2::<T>(&l.cs_b),
+                width_sc: n2::<T>(&l.width_sc),
                 area: narrow_area::<T>(l, &two_area_start),
                 two_area_start,
                 two_area_end: OnceLock::new(),
