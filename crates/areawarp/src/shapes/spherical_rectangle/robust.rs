@@ -105,7 +105,6 @@ pub(super) struct Robust<T> {
     inv_scale2: T,
     /// `2ℓ₀ℓ₁ C_d S_d · σ`.
     k_x: T,
-    half_omega: T,
     anchors: [Anchor<T>; 2],
 }
 
@@ -371,7 +370,6 @@ impl<T: Real> Robust<T> {
             sd_scale,
             inv_scale2,
             sd_scaled,
-            half_omega: o.half_omega.clone(),
             parts: o,
         }
     }
@@ -400,7 +398,7 @@ impl<T: Real> Robust<T> {
         } else {
             (&self.anchors[1], T::one() - u, true)
         };
-        let (st, ct) = (uu * &self.half_omega).sin_cos();
+        let (st, ct) = (uu * &self.parts.half_omega).sin_cos();
         // Every sine of a half angle below is σ times its value (exact).
         let st = st * &self.sd_scale;
         // Half angles at the sample by the addition theorems (τ/2 ≥ 0 moves
