@@ -16,7 +16,7 @@ use super::build::{degenerate, next};
 use super::geometry::Source;
 use crate::error::WarpError;
 use crate::real::Real;
-use crate::shapes::wide::widen3;
+use crate::shapes::wide::{largest_abs, widen3};
 use crate::vector::Vec3;
 
 /// The size of the cross product of two consecutive unit vertices (in the
@@ -92,7 +92,9 @@ pub(super) fn distinct<W: Real>(
     same: impl Fn(usize, usize) -> bool,
 ) -> Result<Vec<Vec3<W>>, WarpError> {
     let n = v.len();
-    if (0..n).any(|i| v[i].cross(&v[next(i, n)]).max_abs() <= *close) {
+    // Unit vectors: finite cross products, their largest magnitude by
+    // comparisons.
+    if (0..n).any(|i| largest_abs(&v[i].cross(&v[next(i, n)])) <= *close) {
         drop_coincident(v, close, same)
     } else {
         Ok(v)

@@ -8,7 +8,7 @@ use super::coincident::{coincidence_scale, distinct};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::polygon_measures::oriented_solid_angle_of_units;
-use crate::shapes::wide::widen3;
+use crate::shapes::wide::{largest_abs, widen3};
 use crate::vector::Vec3;
 
 /// Where the polygon came from, kept to rebuild it at another precision.
@@ -70,7 +70,9 @@ pub(super) fn unit_direction<T: Real>(
     let zero = || WarpError::Degenerate {
         what: "a polygon vertex direction is the zero vector",
     };
-    let m = v.max_abs();
+    // Finite: the largest magnitude by comparisons (`max_abs` takes
+    // NaN-aware maxima).
+    let m = largest_abs(v);
     if !(m > T::zero()) {
         return Err(zero());
     }
