@@ -491,7 +491,18 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
         if wrap.as_ref().is_some_and(|w| x >= w) {
             return 0;
         }
-        bounds.partition_point(|b| b.0 <= *x).max(1) - 1
+        // `partition_point(b ≤ x).max(1) − 1`; for a few meridians by a
+        // linear scan (a handful of comparisons, where the binary search
+        // and its bookkeeping cost about 30 instructions per end).
+        if m <= 8 {
+            let mut i = 0;
+            while i + 1 < m && bounds[i + 1].0 <= *x {
+                i += 1;
+            }
+            i
+        } else {
+            bounds.partition_point(|b| b.0 <= *x).max(1) - 1
+        }
     };
     for a in usable.iter_mut() {
         a.ends = (index(&a.az.0), index(&a.az.1));
@@ -761,7 +772,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
             j = outer_j + 1;
         }
         let n_edges = lune_edges.len();
-        let mut lune = Lune {
+        // Written in place: the lune is large, a copy into the vector costs
+        // more than its sums.
+        lunes.push(Lune {
             start,
             end_az,
             width: w.clone(),
@@ -777,8 +790,9 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
             end: pairs.len(),
             n_edges,
             active: None,
-        };
+        });
         if n_edges > 0 {
+            let lune = lunes.last_mut().expect("pushed above");
             // From the start only: the end's sum (the same area) is
             // computed when a sample first needs it (`Lune::two_area`).
             lune.two_area_start = lune.swept(&edges, &pairs, Side::Start, &c1, &s1).max(&zero);
@@ -790,7 +804,6 @@ pub(super) fn partition<T: Real>(arcs: Vec<Arc<T>>) -> Result<(Parts<T>, T), War
                 lune.area = lune.two_area_start.clone() * &half;
             }
         }
-        lunes.push(lune);
     }
     // Projected area by lune; lunes of zero area are never sampled.
     let measure = accumulate(&mut lunes);

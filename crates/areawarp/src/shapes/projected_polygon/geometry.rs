@@ -46,12 +46,18 @@ pub(super) fn arc_distance<T: Real>(d: &Vec3<T>, arc: &Arc<T>) -> T {
 /// (no overflow or underflow for huge or subnormal input, and none of the
 /// two `hypot` calls of [`Vec3::normalized`]).
 pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
-    let m = v.max_abs();
+    // The largest magnitude by comparisons (`max_abs` takes NaN-aware
+    // maxima); a NaN coordinate it passes over makes `n` NaN below.
+    let m = largest_abs(v);
     if !m.is_finite_above(&T::zero()) {
         return None;
     }
     let w = Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m);
     let n = w.dot(&w).sqrt();
+    // n ∈ [1, √3] for a finite v.
+    if !n.is_finite_above(&T::zero()) {
+        return None;
+    }
     Some(Vec3::new(w.x / &n, w.y / &n, w.z / &n))
 }
 
@@ -59,7 +65,9 @@ pub(super) fn scaled_unit<T: Real>(v: &Vec3<T>) -> Option<Vec3<T>> {
 /// `v` is scaled by the reciprocal of its largest coordinate (so that
 /// directions that are positive multiples of each other usually coincide
 /// after normalization, which the coincident-vertex test relies on), then
-/// divided by its length, a plain square root after the scaling.
+/// divided by its length, a plain square root after the scaling (by
+/// quotients where the reciprocal overflows: a subnormal direction is a
+/// direction too).
 pub(super) fn unit_direction<T: Real>(
     v: &Vec3<T>,
     what: &'static str,
@@ -76,7 +84,14 @@ pub(super) fn unit_direction<T: Real>(
     if !(m > T::zero()) {
         return Err(zero());
     }
-    let w = v.scale(&(T::one() / &m));
+    let inv = T::one() / &m;
+    let w = if inv.is_finite() {
+        v.scale(&inv)
+    } else {
+        // A subnormal largest coordinate (below 1/max): its reciprocal
+        // overflows, the quotients do not.
+        Vec3::new(v.x.clone() / &m, v.y.clone() / &m, v.z.clone() / &m)
+    };
     let n = w.dot(&w).sqrt();
     if !n.is_finite_above(&T::zero()) {
         return Err(zero());

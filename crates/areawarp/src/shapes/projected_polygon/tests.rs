@@ -259,6 +259,59 @@ fn projected_polygon_constructor_errors() {
     )));
 }
 
+/// The normalizations take the largest magnitude by comparisons, which pass
+/// over a NaN in the second or third coordinate: a NaN, an infinity or the
+/// zero vector still gives no unit vector, in every position.
+#[test]
+fn projected_polygon_normalizations_refuse_non_finite_and_zero() {
+    use super::geometry::{scaled_unit, unit_direction};
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        for k in 0..3 {
+            let mut c = [0.5, -2.0, 1.0];
+            c[k] = bad;
+            let v = Vec3::new(c[0], c[1], c[2]);
+            assert!(scaled_unit(&v).is_none(), "{v:?}");
+            assert!(unit_direction(&v, "vertex").is_err(), "{v:?}");
+        }
+    }
+    let zero = Vec3::new(0.0, 0.0, 0.0);
+    assert!(scaled_unit(&zero).is_none());
+    assert!(unit_direction(&zero, "vertex").is_err());
+    for v in [
+        Vec3::new(0.5, -2.0, 1.0),
+        Vec3::new(-3.0, 1e-300, 0.0),
+        Vec3::new(0.0, 0.0, -1e-310),
+    ] {
+        let (a, b) = (
+            scaled_unit(&v).unwrap(),
+            unit_direction(&v, "vertex").unwrap(),
+        );
+        for u in [a, b] {
+            assert!((u.norm() - 1.0).abs() <= 2.0 * f64::EPSILON, "{v:?}: {u:?}");
+            assert!(u.dot(&v) > 0.0, "{v:?}: {u:?}");
+        }
+    }
+    // A polygon of subnormal directions is the polygon they point along
+    // (its vertices' reciprocals overflow; the constructor used to call
+    // them zero vectors). At 1e-322 (20 units of the smallest subnormal)
+    // the scaled coordinates are whole units, so the directions are exact.
+    let quad = [
+        [-0.3, 0.2, 1.0],
+        [0.6, 0.1, 1.0],
+        [0.7, 0.9, 1.0],
+        [-0.2, 0.8, 1.0],
+    ];
+    let at = |k: f64| quad.map(|p| Vec3::new(p[0] * k, p[1] * k, p[2] * k));
+    let unit = ProjectedPolygon::<f64>::new(&at(1.0)).unwrap().measure();
+    for k in [1e-300, 4e-309, 1e-310, 1e-322] {
+        let tiny = ProjectedPolygon::<f64>::new(&at(k)).unwrap().measure();
+        assert!(
+            (tiny - unit).abs() <= 1e-12 * unit,
+            "scale {k:e}: {tiny} against {unit}"
+        );
+    }
+}
+
 #[test]
 fn projected_polygon_either_orientation_same_polygon() {
     for (name, light) in lights() {
