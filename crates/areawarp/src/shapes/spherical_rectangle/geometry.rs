@@ -116,6 +116,15 @@ struct Frame<T> {
     zplus: Vec3<T>,
 }
 
+/// An edge shorter than `1/max` (subnormal): its reciprocal overflows, and
+/// no such rectangle has a density in area that the type can hold
+/// (`docs/spherical-rectangle.md`, "Subnormal edges"): refused for that
+/// reason, where the overflowed frame used to fail the perpendicularity
+/// test.
+fn subnormal_edge() -> WarpError {
+    super::range::AREA_PDF
+}
+
 fn not_perpendicular() -> WarpError {
     WarpError::InvalidParameter {
         name: "ey",
@@ -189,6 +198,9 @@ impl<T: Real> Frame<T> {
             return Err(non_finite("length of edge ey"));
         }
         let inv_lx = one.clone() / &lx_world;
+        if !inv_lx.is_finite() {
+            return Err(subnormal_edge());
+        }
         let xhat = ex.scale(&inv_lx);
         let along = xhat.dot(ey);
         let cosine = along.clone() / &ey_len;
@@ -198,6 +210,9 @@ impl<T: Real> Frame<T> {
         let ey_perp = ey.sub(&xhat.scale(&along));
         let ly_world = norm(&ey_perp);
         let inv_ly = one / &ly_world;
+        if !inv_ly.is_finite() {
+            return Err(subnormal_edge());
+        }
         let yhat = ey_perp.scale(&inv_ly);
         let zplus = xhat.cross(&yhat);
         Ok(Frame {

@@ -79,6 +79,28 @@ fn spherical_rectangle_constructor_errors() {
         let r = new(s, ex, ey, o);
         assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
     }
+    // A subnormal edge (either one, or both, long or short partners):
+    // no such rectangle has a density in area the type can hold
+    // (`subnormal_edge`); the overflowed frame used to fail the
+    // perpendicularity test instead.
+    for (a, b) in [
+        (1e-310, 1e-310),
+        (1e-310, 1.0),
+        (1.0, 1e-310),
+        (1e-320, 1e300),
+    ] {
+        let r = new(
+            v3(0.0, 0.0, 0.0),
+            v3(a, 0.0, 0.0),
+            v3(0.0, b, 0.0),
+            v3(0.0, 0.0, 1e-300),
+        );
+        let what = "density in area measure outside the scalar type's range";
+        assert!(
+            matches!(r, Err(WarpError::Unrepresentable { what: w }) if w == what),
+            "{a:e} × {b:e}: {r:?}"
+        );
+    }
     // Zero solid angle: so far away that Ω underflows.
     let r = new(s, ex, ey, v3(0.0, 0.0, 1e200));
     assert!(matches!(r, Err(WarpError::Degenerate { .. })), "{r:?}");
