@@ -646,14 +646,14 @@ fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<T, WarpError> {
 /// A sufficient condition for [`area_density_in_range`] by three
 /// comparisons in `T`: `|exp| ≤ 16`, `h ≥ 2^-16`, `Ω ≥ 2^-32` (every
 /// rectangle neither tiny, huge, grazed nor far away), for a `T` whose range
-/// exceeds `2^±100` (`f32` and wider). Derivation:
+/// exceeds `2^±104` (`f32` and wider). Derivation:
 /// `docs/spherical-rectangle.md` (one-shot cost).
 #[inline(always)]
 fn ordinary_density_range<T: Real>(h: &T, omega: &T, exp: i32) -> bool {
     exp.abs() <= 16
         && *h >= T::exp2i(-16)
         && *omega >= T::exp2i(-32)
-        && T::max_value() >= T::exp2i(100)
+        && T::max_value() >= T::exp2i(104)
 }
 
 /// M(u, v) with both densities, by the robust map. Inlined into its caller:

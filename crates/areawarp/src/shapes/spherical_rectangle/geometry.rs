@@ -423,8 +423,10 @@ pub(super) fn far_near<W: Real>(local: &[W; 5]) -> ((W, W), (W, W)) {
 
 /// Whether the area densities `h/(Ω r³)` at the nearest and the farthest
 /// point of the rectangle `local = [x₀, y₀, ℓx, ℓy, h]` (local lengths,
-/// world = local · 2^exp), computed in the wide type, are finite and
-/// positive once rounded to `T`.
+/// world = local · 2^exp), computed in the wide type, lie within
+/// `[16·tiny, max/16]` once rounded to `T` (`tiny` = [`Real::normal_floor`]):
+/// normal numbers with margins that cover the sample's own roundings of
+/// the same value, as the triangle's plane asks (`shapes/light_plane.rs`).
 pub(super) fn area_density_exact<T: Real>(local: &[T::Wide; 5], omega: &T::Wide, exp: i32) -> bool {
     let h = &local[4];
     let ((far_x, far_y), (near_x, near_y)) = far_near(local);
@@ -434,7 +436,8 @@ pub(super) fn area_density_exact<T: Real>(local: &[T::Wide; 5], omega: &T::Wide,
         T::narrow(&(h.clone() / &(omega.clone() * &r * &r * &r) * &scale))
     };
     let (p_max, p_min) = (density(&near_x, &near_y), density(&far_x, &far_y));
-    p_max.is_finite() && positive(&p_min)
+    let sixteen = T::from_i64(16);
+    p_max <= T::max_value() / &sixteen && p_min >= T::normal_floor() * &sixteen
 }
 
 /// A sufficient condition for [`area_density_exact`], by products alone
@@ -461,12 +464,13 @@ pub(super) fn area_density_in_range<T: Real>(
     let h2 = h.square();
     // Ω r³ ≥ Ω h³ stays normal, and h/(Ω r³) ≤ 2/(Ω h³) finite.
     let no_underflow = omega.clone() * &h2 * h >= W::<T>::from_i64(64) * &tiny_w;
-    // r_near ≥ h: p_max ≤ s/(Ω h²).
-    let p_max_ok = omega.clone() * &h2 * &(max / &two) > scale;
+    // r_near ≥ h: p_max ≤ s/(Ω h²) < max/32 (the exact test asks max/16).
+    let p_max_ok = omega.clone() * &h2 * &(max / &W::<T>::from_i64(32)) > scale;
     // r_far ≤ R = far_x + far_y + h: p_min ≥ h s/(Ω R³), and h/(Ω R³) normal.
     let r = far_x + &far_y + h;
     let omega_r3 = omega.clone() * &(r.square() * &r);
-    let p_min_ok = h.clone() * &scale >= omega_r3.clone() * &W::<T>::from_i64(8) * &tiny
+    // p_min ≥ 32·tiny (the exact test asks 16·tiny).
+    let p_min_ok = h.clone() * &scale >= omega_r3.clone() * &W::<T>::from_i64(32) * &tiny
         && *h >= omega_r3 * &W::<T>::from_i64(64) * &tiny_w;
     no_underflow && p_max_ok && p_min_ok
 }
