@@ -179,7 +179,12 @@ impl<T: Real> SphericalRectangle<T> {
     /// [`WarpError::Degenerate`] for a zero-length edge, an observer in the
     /// plane of the rectangle or a zero solid angle,
     /// [`WarpError::InvalidParameter`] for edges that are not perpendicular
-    /// (`|cos ∠(ex, ey)| > 64·2^-p`, `p` the precision of `T`).
+    /// (`|cos ∠(ex, ey)| > 64·2^-p`, `p` the precision of `T`),
+    /// [`WarpError::Unrepresentable`] for a rectangle `T` cannot serve: an
+    /// observer so close to the plane that `h²` underflows, a solid angle
+    /// or its reciprocal out of range, or a density in area at the nearest
+    /// or farthest point outside `[16·tiny, max/16]` (`tiny ≈` the smallest
+    /// normal number; this includes every rectangle with a subnormal edge).
     ///
     /// # Example
     /// ```
@@ -610,8 +615,8 @@ mod range {
 /// `1/Ω` once `T` is known to serve the rectangle (Ω given): `h²` (local, the
 /// largest local length in `[1, 2)`) and Ω above `tiny/u` (`tiny ≈` the
 /// smallest normal number, `4/max`), so that the map's products of small
-/// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` finite and
-/// non-zero at the nearest and farthest points of the rectangle.
+/// terms stay normal; `1/Ω` finite; the area density `h/(Ω r³)` within
+/// `[16·tiny, max/16]` at the nearest and farthest points of the rectangle.
 #[inline(always)]
 fn check_range<T: Real>(g: &Geometry<T>, omega: &T) -> Result<T, WarpError> {
     let tiny = T::normal_floor();
