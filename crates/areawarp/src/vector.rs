@@ -164,6 +164,13 @@ impl<T: Real> Vec3<T> {
     pub fn is_finite(&self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
     }
+    /// `true` if every coordinate is zero (of either sign; `false` with a
+    /// NaN): three comparisons, where `max_abs() == 0` takes NaN-aware
+    /// maxima.
+    pub fn is_zero(&self) -> bool {
+        let zero = T::zero();
+        self.x == zero && self.y == zero && self.z == zero
+    }
     /// Linear interpolation `(1 − t)·self + t·o`.
     pub fn lerp(&self, o: &Self, t: &T) -> Self {
         self.scale(&(T::one() - t)).add(&o.scale(t))

@@ -302,4 +302,20 @@ mod tests {
         let arr: [Dual2<f64>; 3] = a.clone().into();
         assert_eq!(Vec3::from(arr), a);
     }
+
+    #[test]
+    fn is_zero_by_comparisons() {
+        assert!(Vec3::new(0.0, -0.0, 0.0).is_zero());
+        assert!(Vec3::<f64>::zero().is_zero());
+        for v in [
+            Vec3::new(0.0, 0.0, 5e-324),
+            Vec3::new(-1e-300, 0.0, 0.0),
+            Vec3::new(0.0, f64::NAN, 0.0),
+            Vec3::new(f64::INFINITY, 0.0, 0.0),
+        ] {
+            assert!(!v.is_zero(), "{v:?}");
+        }
+        // Where `max_abs` passes over the NaN and reads 0.
+        assert_eq!(Vec3::new(0.0, f64::NAN, 0.0).max_abs(), 0.0);
+    }
 }

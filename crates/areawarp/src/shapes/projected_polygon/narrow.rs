@@ -38,14 +38,11 @@ pub(super) fn representable<T: Real>(vertices_w: &[Vec3<T::Wide>]) -> bool {
     let Some(last) = vertices_w.last() else {
         return true;
     };
-    let zero = <T::Wide as Real>::zero();
     let mut prev = rounded(last);
     vertices_w.iter().all(|v| {
         let r = rounded(v);
-        // A non-zero cross product (finite: unit vectors), by three
-        // comparisons where `max_abs() > 0` took NaN-aware maxima.
-        let c = prev.cross(&r);
-        let distinct = !(c.x == zero && c.y == zero && c.z == zero);
+        // A non-zero cross product ([`Vec3::is_zero`]: comparisons).
+        let distinct = !prev.cross(&r).is_zero();
         prev = r;
         distinct
     })

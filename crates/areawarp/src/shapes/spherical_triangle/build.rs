@@ -384,14 +384,11 @@ impl<W: Real> Anchor<W> {
             t_b: narrow3::<T>(&self.t_b),
             n_b: narrow3::<T>(&self.n_b),
         };
-        // V − B (finite) rounded to zero: three comparisons, where
-        // `max_abs() > 0` compiled to NaN-aware maxima.
-        let zero = T::zero();
-        let d = &out.v_minus_b;
-        let finite = out.k1_d.is_finite_above(&zero)
+        // V − B (finite) rounded to zero ([`Vec3::is_zero`]: comparisons).
+        let finite = out.k1_d.is_finite_above(&T::zero())
             && out.k_d.is_finite()
             && out.inv_s2.is_finite()
-            && !(d.x == zero && d.y == zero && d.z == zero);
+            && !out.v_minus_b.is_zero();
         finite.then_some(out)
     }
 }
