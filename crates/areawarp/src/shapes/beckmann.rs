@@ -3,11 +3,12 @@
 
 use super::ggx::{PolarHemisphere, check_roughness};
 use super::hemisphere::upper_hemisphere_outside_by;
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
+use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Microfacet normals about `+z` with the isotropic Beckmann distribution of

@@ -1,12 +1,13 @@
 //! Uniform sampling of the unit upper hemisphere (Arvo 2001, §1.3.3,
 //! eq. 1.26): `z = 1 − u`, `φ = 2πv`. Derivation: `docs/hemisphere.md`.
 
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
+use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{Warp, WarpFamily};
 
 /// Uniform directions on the unit upper hemisphere `{|p| = 1, z ≥ 0}`

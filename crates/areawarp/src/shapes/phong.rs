@@ -3,12 +3,13 @@
 //! Derivation: `docs/phong.md`.
 
 use super::hemisphere::upper_hemisphere_outside_by;
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
+use super::turns::{clamp_unit, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{Warp, WarpFamily};
 
 /// Which formula evaluates `z = u^(1/(k+1))`: the exact special cases

@@ -3,12 +3,13 @@
 //! rotated (e.g. random) axis. Derivation: `docs/sphere.md`.
 
 use super::local_frame::{LocalFrame, unit_vector};
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
+use super::turns::{clamp_unit, polar_turns, positive, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{Warp, WarpFamily};
 use rand::{Rng, RngExt};
 

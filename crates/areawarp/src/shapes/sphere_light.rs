@@ -4,11 +4,12 @@
 //! the sphere first. Derivation: `docs/sphere-light.md`.
 
 use super::local_frame::{LocalFrame, off_unit_sphere, one_minus_z, unit_vector};
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, positive, turns_of};
+use super::turns::{clamp_unit, polar_turns, positive, turns_of};
 use super::wide::{largest_abs, scale_exponent};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily};
 
 /// How far a direction with `w = 1 − cos θ` and `sin θ` lies beyond the rim

@@ -4,10 +4,11 @@
 //! Derivation: `docs/spherical-lune.md`.
 
 use super::local_frame::{off_unit_sphere, unit_vector};
-use super::turns::{clamp_unit, on_shape_tolerance, positive};
+use super::turns::{clamp_unit, positive};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Uniform directions (in solid angle) in the spherical lune

@@ -1,8 +1,9 @@
 //! Small numerical helpers shared by the spherical warps: the azimuth
 //! `φ = 2πv` evaluated without losing accuracy at the ends of `[0, 1]`, its
 //! inverse, `atan2` by libm's `atan` of the quotient ([`atan2_by_atan`],
-//! [`atan2_nonneg`]), and the tolerance used to decide that a point
-//! lies on a shape.
+//! [`atan2_nonneg`]), the clamps of `u`, `v` and of ratios to `[0, 1]`,
+//! and the positivity test. (The on-shape tolerance is
+//! `warp::on_shape_tolerance`, beside the trait that documents it.)
 
 use crate::real::Real;
 
@@ -120,8 +121,6 @@ pub(crate) fn clamp01<T: Real>(x: &T) -> T {
 pub(crate) fn positive<T: Real>(x: &T) -> bool {
     *x > T::zero()
 }
-
-pub(crate) use crate::warp::on_shape_tolerance;
 
 #[cfg(test)]
 mod tests {

@@ -2,11 +2,12 @@
 //! `1 − z = u·(1 − cos θ_max)`, `φ = 2πv`. Derivation: `docs/uniform-cone.md`.
 
 use super::local_frame::{off_unit_sphere, one_minus_z};
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
+use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// Validates `cos θ_max` and returns `h = 1 − cos θ_max` (exact for

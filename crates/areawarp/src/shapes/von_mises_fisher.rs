@@ -3,10 +3,11 @@
 //! beyond. Derivation: `docs/von-mises-fisher.md`.
 
 use super::local_frame::one_minus_z;
-use super::turns::{clamp_unit, on_shape_tolerance, polar_turns, turns_of};
+use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
+use crate::warp::on_shape_tolerance;
 use crate::warp::{InverseError, Warp, WarpFamily};
 
 /// `ln(1 + x)/x`, 1 at `x = 0` (the limit).

@@ -20,7 +20,7 @@ use self::coincident::coincidence_scale;
 use self::geometry::{Frame, Source, arc_distance, source_solid_angle, unit_direction};
 use self::lune::{ActiveLune, LuneCdf, Side, SideFit};
 use self::narrow::{Stored, narrow_measure, narrow_parts, representable, unrepresentable};
-use super::turns::{atan2_by_atan, clamp_unit, on_shape_tolerance};
+use super::turns::{atan2_by_atan, clamp_unit};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
@@ -29,6 +29,7 @@ use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
 use crate::warp::Warp;
+use crate::warp::on_shape_tolerance;
 use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
