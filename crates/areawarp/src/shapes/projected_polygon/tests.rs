@@ -652,6 +652,22 @@ fn projected_polygon_chi_square_1e6() {
 /// polygon's own `outside_by`, and that `w.inverse` accepts it (`what`
 /// names the case in the messages): the check of the regression tests
 /// `extremal_vertex` and `horizon_sliver`.
+/// The polygon of the directions `v` in f64 and, from the same values, at
+/// 256 bits.
+#[cfg(feature = "mpfr")]
+fn f64_and_exact(
+    v: &[Vec3<f64>],
+) -> (
+    ProjectedPolygon<f64>,
+    ProjectedPolygon<crate::real::Mpfr256>,
+) {
+    let wide: Vec<Vec3<crate::real::Mpfr256>> = v.iter().map(|p| p.convert()).collect();
+    (
+        ProjectedPolygon::new(v).unwrap(),
+        ProjectedPolygon::new(&wide).unwrap(),
+    )
+}
+
 #[cfg(feature = "mpfr")]
 fn assert_on_polygon(
     w: &ProjectedPolygon<f64>,

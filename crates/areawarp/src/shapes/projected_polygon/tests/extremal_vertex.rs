@@ -17,16 +17,6 @@
 use super::*;
 use crate::real::Mpfr256;
 
-/// The polygon of the directions `v` in f64 and, from the same values, at
-/// 256 bits.
-fn f64_and_exact(v: &[Vec3<f64>]) -> (ProjectedPolygon<f64>, ProjectedPolygon<Mpfr256>) {
-    let wide: Vec<Vec3<Mpfr256>> = v.iter().map(|p| p.convert()).collect();
-    (
-        ProjectedPolygon::new(v).unwrap(),
-        ProjectedPolygon::new(&wide).unwrap(),
-    )
-}
-
 /// Samples at `u` (the vertex's meridian) are on the polygon in f64 and at
 /// 256 bits and accepted by the inverse ([`assert_on_polygon`]).
 fn vertex_samples_on_polygon(w: &ProjectedPolygon<f64>, exact: &ProjectedPolygon<Mpfr256>, u: f64) {

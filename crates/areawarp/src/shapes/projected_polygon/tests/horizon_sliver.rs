@@ -6,7 +6,6 @@
 //! the polygon, and `outside_by` (with it `inverse` and `pdf`) must say so.
 
 use super::*;
-use crate::real::Mpfr256;
 
 fn sliver() -> Vec<Vec3<f64>> {
     [
@@ -38,10 +37,7 @@ fn sliver() -> Vec<Vec3<f64>> {
 #[test]
 fn an_unsampled_lune_is_part_of_the_polygon() {
     let v = sliver();
-    let w = ProjectedPolygon::new(&v).unwrap();
-    let exact =
-        ProjectedPolygon::<Mpfr256>::new(&v.iter().map(|p| p.convert()).collect::<Vec<_>>())
-            .unwrap();
+    let (w, exact) = f64_and_exact(&v);
     let parts = w.parts();
     // The case is what it says: a lune with edges that the map skips.
     assert!(
