@@ -125,8 +125,43 @@ fn bad_sample<T: Real>(
         {
             return Some(format!("light sample {s:?} at u = {u:?}, v = {v:?}"));
         }
+        if let Some(off) = off_plane::<T>(case, &s.point) {
+            return Some(format!(
+                "light sample {s:?} at u = {u:?}, v = {v:?}: {off:.3e} off the corners' plane"
+            ));
+        }
     }
     None
+}
+
+/// For a polygon given by points: how far (relative) the light sample's
+/// `point` lies from the plane of the corners as `T` holds them (their fan
+/// normal through their centroid, in `f64`), if farther than `64·u` of `T`
+/// times the magnitudes involved: the point must be on the emitter, not
+/// only finite.
+fn off_plane<T: Real>(case: &PolygonCase, point: &Vec3<T>) -> Option<f64> {
+    let (o, _) = case.seen_from.as_ref()?;
+    let o: Vec3<f64> = v3::<T>(o).convert();
+    let rel: Vec<Vec3<f64>> = case
+        .vertices
+        .iter()
+        .map(|p| v3::<T>(p).convert::<f64>().sub(&o))
+        .collect();
+    let mut normal = Vec3::zero();
+    for k in 1..rel.len() - 1 {
+        normal = normal.add(&rel[k].sub(&rel[0]).cross(&rel[k + 1].sub(&rel[0])));
+    }
+    let centroid = rel
+        .iter()
+        .fold(Vec3::zero(), |c, p| c.add(p))
+        .scale(&(1.0 / rel.len() as f64));
+    let n = normal.scale(&(1.0 / normal.dot(&normal).sqrt()));
+    let q = point.convert::<f64>().sub(&o);
+    let off = q.sub(&centroid).dot(&n).abs();
+    let size = |v: &Vec3<f64>| v.dot(v).sqrt();
+    let scale = size(&q) + size(&centroid) + size(&o);
+    let limit = 64.0 * T::unit_roundoff().to_f64() * scale;
+    (!(off <= limit)).then_some(off / scale)
 }
 
 /// Whether `f64` accepts the case on the values `vertices` (and the

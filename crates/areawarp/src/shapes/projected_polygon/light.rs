@@ -23,29 +23,30 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
     /// the plane of the polygon's corners (relative to the observer): the
     /// plane through their centroid with the normal of their fan of
     /// triangles (exact for a planar polygon), `t = t₀/|d·n̂|`,
-    /// `|cos θ_e| = |d·n̂|` (`shapes/light_plane.rs`). The plane is made at
-    /// the first call, not at construction, so that a sampler that never
-    /// asks for points does not pay for it; for the same reason the
-    /// constructor does not refuse a polygon whose plane `T` cannot hold
-    /// (corners far beyond or below its range, or a plane through the
-    /// observer's neighbourhood): the point is then the direction itself, on
-    /// the unit sphere (distance 1, density in area equal to the density
-    /// in solid angle). Densities in area are normal from directions
-    /// `2^-10` (in cosine) above the receiver's horizon; nearer it they
-    /// may round to 0.
+    /// `|cos θ_e| = |d·n̂|` (`shapes/light_plane.rs`).
+    /// [`ProjectedPolygon::from_points`] makes the plane and refuses a
+    /// polygon whose plane `T` cannot hold (corners far beyond or below its
+    /// range, or a plane through the observer's neighbourhood), as
+    /// [`SphericalTriangle::from_points`](crate::shapes::SphericalTriangle::from_points)
+    /// does: every point is on the emitter. For vertex directions
+    /// ([`ProjectedPolygon::new`]) the plane is made at the first call, so
+    /// that a sampler of directions never pays for it, and where `T` cannot
+    /// hold it the point is the direction itself, on the unit sphere
+    /// (distance 1, density in area equal to the density in solid angle).
+    /// Densities in area are normal from directions `2^-10` (in cosine)
+    /// above the receiver's horizon; nearer it they may round to 0.
     #[inline]
     fn sample_light(&self, uv: [T; 2]) -> LightSample<T> {
         let [u, v] = uv;
         let (d, pdf) = self.map_with_pdf(&u, &v);
         let observer = self.observer();
+        // Set by `from_points`; for directions made here, once.
         let plane = self.plane.get_or_init(|| {
             let corners = match &self.source {
                 Source::Points { points, .. } => points,
                 Source::Directions(v) => v,
             };
-            let pdf_max = T::one() / &self.measure;
-            let pdf_min = pdf_max.clone() * &T::exp2i(-10);
-            LightPlane::new(corners, &observer, &pdf_max, &pdf_min).ok()
+            Self::light_plane(&self.measure, corners, &observer).ok()
         });
         match plane {
             Some(plane) => plane.sample(d, pdf, &observer),

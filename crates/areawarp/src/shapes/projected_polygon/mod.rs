@@ -177,8 +177,10 @@ pub struct ProjectedPolygon<T: Real> {
     /// [`ProjectedPolygon::active`]; each fit at the first sample in its
     /// lune, [`ProjectedPolygon::fit`]).
     active: OnceLock<Vec<ActiveLune<T>>>,
-    /// The plane of the corners for `sample_light` (made at its first call;
-    /// `None` where `T` cannot hold it).
+    /// The plane of the corners for `sample_light`: made by
+    /// [`ProjectedPolygon::from_points`] (which refuses a plane `T` cannot
+    /// hold); for vertex directions ([`ProjectedPolygon::new`]) at the first
+    /// call, `None` where `T` cannot hold it.
     plane: OnceLock<Option<LightPlane<T>>>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
@@ -247,7 +249,12 @@ impl<T: Real> ProjectedPolygon<T> {
     /// # Errors
     /// As [`ProjectedPolygon::new`], plus [`WarpError::NonFinite`] /
     /// [`WarpError::Degenerate`] for a non-finite observer or a zero or
-    /// non-finite normal.
+    /// non-finite normal, and [`WarpError::Unrepresentable`] for a polygon
+    /// whose plane's distances or densities in area `T` cannot hold (the
+    /// light sample's point, distance and `pdf_area`: corners very far or
+    /// very near at either end of `T`'s range, or a plane through the
+    /// observer's neighbourhood), as
+    /// [`SphericalTriangle::from_points`](crate::shapes::SphericalTriangle::from_points).
     ///
     /// # Density
     /// `max(n · ω, 0) / Π` per steradian, `n` the unit normal.
@@ -335,6 +342,20 @@ impl<T: Real> ProjectedPolygon<T> {
         )
     }
 
+    /// The plane of `corners` seen from `observer` for the densities in
+    /// solid angle of a polygon of projected solid angle `measure`: from
+    /// `1/Π` down to `2^-10` of it (below that, next to the receiver's
+    /// horizon, densities in area may round to 0).
+    fn light_plane(
+        measure: &T,
+        corners: &[Vec3<T>],
+        observer: &Vec3<T>,
+    ) -> Result<LightPlane<T>, WarpError> {
+        let pdf_max = T::one() / measure;
+        let pdf_min = pdf_max.clone() * &T::exp2i(-10);
+        LightPlane::new(corners, observer, &pdf_max, &pdf_min)
+    }
+
     fn build(
         source: Source<T>,
         local: &[Vec3<T>],
@@ -369,6 +390,17 @@ impl<T: Real> ProjectedPolygon<T> {
         if let Some(omega) = solid_angle_w {
             let _ = solid_angle.set(T::narrow(&omega));
         }
+        // A polygon given by points: the emitter's plane now, not at the
+        // first `sample_light`, so that a light whose plane (distances,
+        // densities in area) `T` cannot hold is refused, as
+        // `SphericalTriangle::from_points` refuses it, instead of placing
+        // its samples off the emitter.
+        let plane = match &source {
+            Source::Points {
+                points, observer, ..
+            } => OnceLock::from(Some(Self::light_plane(&measure, points, observer)?)),
+            Source::Directions(_) => OnceLock::new(),
+        };
         Ok(ProjectedPolygon {
             source,
             inversion,
@@ -376,7 +408,7 @@ impl<T: Real> ProjectedPolygon<T> {
             stored,
             narrowed: OnceLock::new(),
             active: OnceLock::new(),
-            plane: OnceLock::new(),
+            plane,
             measure,
             solid_angle,
             two_pi: T::pi() * &T::from_i64(2),

@@ -4,7 +4,7 @@ use crate::harness::chi2::{Binning, run_chi_square};
 use crate::harness::extremes::{extremes_grid, random_points};
 use crate::harness::roundtrip::check_roundtrip;
 use crate::shapes::polygon_measures::{projected_solid_angle, solid_angle};
-use crate::warp::WarpFamily;
+use crate::warp::{LightWarp, WarpFamily};
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use std::f64::consts::PI;
@@ -462,6 +462,44 @@ fn projected_polygon_from_points_frame() {
     }
     let g = w.at::<f32>().unwrap();
     assert!((g.measure() as f64 - w.measure()).abs() < 1e-5);
+}
+
+/// A polygon given by points whose plane `f32` cannot hold is refused by
+/// `from_points` (as the triangle's `from_points` refuses it), where it
+/// used to be accepted with light samples on the unit sphere, off the
+/// emitter; `f64` holds the same plane and places every sample on it.
+/// Given as directions, the same polygon is accepted in `f32` and keeps
+/// the documented unit-sphere point.
+#[test]
+fn projected_polygon_from_points_refuses_a_plane_the_type_cannot_hold() {
+    let o = Vec3::new(0.0, 0.0, 0.0);
+    let n = Vec3::new(0.0, 0.0, 1.0);
+    // A square 10²² across, 10²⁸ away: its density in area, about 10⁻⁴⁴,
+    // is below f32's normal range; its directions are ordinary.
+    let (s, z) = (1e22, 1e28);
+    let p64 = [
+        Vec3::new(-s, -s, z),
+        Vec3::new(s, -s, z),
+        Vec3::new(s, s, z),
+        Vec3::new(-s, s, z),
+    ];
+    let p32: Vec<Vec3<f32>> = p64.iter().map(|p| p.convert()).collect();
+    assert!(matches!(
+        ProjectedPolygon::<f32>::from_points(&p32, &o.convert(), &n.convert()),
+        Err(WarpError::Unrepresentable { .. })
+    ));
+    let w = ProjectedPolygon::<f64>::from_points(&p64, &o, &n).unwrap();
+    for (u, v) in random_points(64, 5) {
+        let l = w.sample_light([u, v]);
+        assert!((l.point.z - z).abs() <= 1e-14 * z, "{l:?}");
+        assert!(l.point.x.abs() <= s * (1.0 + 1e-12) && l.point.y.abs() <= s * (1.0 + 1e-12));
+        assert!(l.pdf_area > 0.0 && l.pdf_area < 1e-40, "{l:?}");
+    }
+    // The same corners as vertex directions: accepted in f32, the point on
+    // the unit sphere (`new` is given no emitter to refuse).
+    let w = ProjectedPolygon::<f32>::new(&p32).unwrap();
+    let l = w.sample_light([0.3, 0.6]);
+    assert_eq!((l.distance, l.point), (1.0, l.direction));
 }
 
 #[test]
