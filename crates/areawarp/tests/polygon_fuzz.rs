@@ -10,7 +10,8 @@
 //! points) are finite, on the polygon by its own `outside_by` (within its
 //! `on_shape_tolerance`), accepted by its own `inverse`, with a finite,
 //! non-negative density, and a light sample with a finite point, distance
-//! and area density. Counts of shapes tried / accepted / with a bad
+//! and area density (for a polygon given by points, a point on the plane
+//! of its corners: on the emitter). Counts of shapes tried / accepted / with a bad
 //! sample are printed per inversion and scalar, with the first offending
 //! case and the case and `(u, v)` of the largest `outside_by`; none may
 //! have a bad sample.
