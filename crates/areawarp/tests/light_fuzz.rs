@@ -178,7 +178,10 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         let p = s.point.convert::<f64>().sub(o);
         let off = p.sub(a).dot(n).abs();
         let scale = a.norm() + p.norm() + o.norm();
-        (off > tolerance::<T>().to_f64() * scale).then(|| format!("point {off:e} off the plane"))
+        if off > tolerance::<T>().to_f64() * scale {
+            return Some(format!("point {off:e} off the plane"));
+        }
+        light_consistency(&s, &o.convert(), n, 0.0, 0.0)
     };
     check_samples(&w, (case, case.kind), extra, t);
 }
@@ -202,6 +205,11 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
     let scale = w.corner().norm() + &w.edge_x().norm() + &w.edge_y().norm();
     let robust = variant == SphericalRectangleVariant::Robust;
     let [s0, ex, ey, o] = [&case.s, &case.ex, &case.ey, &case.o].map(|x| v3::<T>(x));
+    // The plane's unit normal, from the edges as T holds them.
+    let normal = {
+        let n = ex.convert::<f64>().cross(&ey.convert());
+        n.scale(&(1.0 / n.norm()))
+    };
     let extra = |u: &T, v: &T| {
         let s = w.sample_light([u.clone(), v.clone()]);
         if robust && SphericalRectangle::sample_once(&s0, &ex, &ey, &o, u, v).as_ref() != Ok(&s) {
@@ -216,7 +224,7 @@ fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVaria
         if w.point_outside_by(&s.point) > tolerance::<T>() * &scale {
             return Some("point off the rectangle".to_string());
         }
-        None
+        light_consistency(&s, &o, &normal, 0.0, scale.to_f64())
     };
     check_samples(&w, (case, case.kind), extra, t);
 }
@@ -251,7 +259,10 @@ fn run_sphere<T: Real>(case: &SphereCase, t: &mut Tally) {
         if off > tolerance::<T>().to_f64() * scale {
             return Some(format!("point {off:e} off the sphere"));
         }
-        None
+        // The normal from the point as T holds it: known to u·|point|/r.
+        let n = s.point.convert::<f64>().sub(&c.convert());
+        let n_error = T::unit_roundoff().to_f64() * s.point.norm().to_f64() / r.to_f64();
+        light_consistency(&s, &o, &n.scale(&(1.0 / n.norm())), n_error, scale)
     };
     check_samples(&w, (case, case.kind), extra, t);
 }

@@ -31,7 +31,7 @@ use std::collections::BTreeMap;
 
 #[path = "support/light_cases.rs"]
 mod light_cases;
-use light_cases::{runner, unit_values, v3};
+use light_cases::{light_consistency, runner, unit_values, v3};
 
 #[path = "support/polygon_cases.rs"]
 mod polygon_cases;
@@ -89,6 +89,7 @@ fn bad_sample<T: Real>(
     }
     grid.extend(extra.iter().map(|&(u, v)| (T::from_f64(u), T::from_f64(v))));
     let tol = w.on_shape_tolerance();
+    let plane = emitter_plane::<T>(case);
     for (u, v) in grid {
         let (p, pdf) = w.map_with_pdf(&u, &v);
         let why = if !p.is_finite() {
@@ -126,21 +127,23 @@ fn bad_sample<T: Real>(
         {
             return Some(format!("light sample {s:?} at u = {u:?}, v = {v:?}"));
         }
-        if let Some(off) = off_plane::<T>(case, &s.point) {
-            return Some(format!(
-                "light sample {s:?} at u = {u:?}, v = {v:?}: {off:.3e} off the corners' plane"
-            ));
+        if let Some(plane) = &plane {
+            let why = match off_plane(plane, &s.point) {
+                Some(off) => Some(format!("{off:.3e} off the corners' plane")),
+                None => light_consistency(&s, &plane.0.convert(), &plane.2, 0.0, 0.0),
+            };
+            if let Some(why) = why {
+                return Some(format!("light sample {s:?} at u = {u:?}, v = {v:?}: {why}"));
+            }
         }
     }
     None
 }
 
-/// For a polygon given by points: how far (relative) the light sample's
-/// `point` lies from the plane of the corners as `T` holds them (their fan
-/// normal through their centroid, in `f64`), if farther than `64·u` of `T`
-/// times the magnitudes involved: the point must be on the emitter, not
-/// only finite.
-fn off_plane<T: Real>(case: &PolygonCase, point: &Vec3<T>) -> Option<f64> {
+/// For a polygon given by points, its plane as `T` holds the corners (in
+/// `f64`, relative to the observer): the observer, the corners' centroid
+/// and the unit normal of their fan.
+fn emitter_plane<T: Real>(case: &PolygonCase) -> Option<(Vec3<f64>, Vec3<f64>, Vec3<f64>)> {
     let (o, _) = case.seen_from.as_ref()?;
     let o: Vec3<f64> = v3::<T>(o).convert();
     let rel: Vec<Vec3<f64>> = case
@@ -156,11 +159,20 @@ fn off_plane<T: Real>(case: &PolygonCase, point: &Vec3<T>) -> Option<f64> {
         .iter()
         .fold(Vec3::zero(), |c, p| c.add(p))
         .scale(&(1.0 / rel.len() as f64));
-    let n = normal.scale(&(1.0 / normal.dot(&normal).sqrt()));
-    let q = point.convert::<f64>().sub(&o);
-    let off = q.sub(&centroid).dot(&n).abs();
-    let size = |v: &Vec3<f64>| v.dot(v).sqrt();
-    let scale = size(&q) + size(&centroid) + size(&o);
+    Some((o, centroid, normal.scale(&(1.0 / normal.norm()))))
+}
+
+/// How far (relative) the light sample's `point` lies from the emitter's
+/// `plane` ([`emitter_plane`]), if farther than `64·u` of `T` times the
+/// magnitudes involved: the point must be on the emitter, not only
+/// finite.
+fn off_plane<T: Real>(
+    (o, centroid, n): &(Vec3<f64>, Vec3<f64>, Vec3<f64>),
+    point: &Vec3<T>,
+) -> Option<f64> {
+    let q = point.convert::<f64>().sub(o);
+    let off = q.sub(centroid).dot(n).abs();
+    let scale = q.norm() + centroid.norm() + o.norm();
     let limit = 64.0 * T::unit_roundoff().to_f64() * scale;
     (!(off <= limit)).then_some(off / scale)
 }
