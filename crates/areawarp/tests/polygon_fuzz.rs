@@ -140,16 +140,18 @@ fn bad_sample<T: Real>(
     None
 }
 
-/// For a polygon given by points, its plane as `T` holds the corners (in
-/// `f64`, relative to the observer): the observer, the corners' centroid
-/// and the unit normal of their fan.
+/// For a polygon given by points, its plane as `T` holds it (from the
+/// corners relative to the observer, `p − o` rounded to `T`, as the
+/// polygon's light forms them; in `f64`): the observer, the corners'
+/// centroid and the unit normal of their fan.
 fn emitter_plane<T: Real>(case: &PolygonCase) -> Option<(Vec3<f64>, Vec3<f64>, Vec3<f64>)> {
     let (o, _) = case.seen_from.as_ref()?;
-    let o: Vec3<f64> = v3::<T>(o).convert();
+    let o_t = v3::<T>(o);
+    let o: Vec3<f64> = o_t.convert();
     let rel: Vec<Vec3<f64>> = case
         .vertices
         .iter()
-        .map(|p| v3::<T>(p).convert::<f64>().sub(&o))
+        .map(|p| v3::<T>(p).sub(&o_t).convert::<f64>())
         .collect();
     let mut normal = Vec3::zero();
     for k in 1..rel.len() - 1 {
