@@ -13,7 +13,9 @@
 //! density, and whose light samples have a finite point at a finite positive
 //! distance with a finite positive area density (zero allowed at the sphere's
 //! rim) on the emitter: the triangle's plane (from points), the rectangle,
-//! the sphere. Counts of shapes tried / accepted / with a
+//! the sphere; and that agree with themselves (`light_consistency`): the
+//! point along the direction at the distance, the density in area equal to
+//! `pdf·|cos θ_e|/t²`. Counts of shapes tried / accepted / with a
 //! sample off the shape are printed per variant and scalar, with the first
 //! offending case and the case and `(u, v)` of the largest `outside_by`;
 //! the robust variants must have none off the shape.

@@ -11,7 +11,9 @@
 //! `on_shape_tolerance`), accepted by its own `inverse`, with a finite,
 //! non-negative density, and a light sample with a finite point, distance
 //! and area density (for a polygon given by points, a point on the plane
-//! of its corners: on the emitter). Counts of shapes tried / accepted / with a bad
+//! of its corners, on the emitter, and a sample that agrees with itself:
+//! the point along the direction at the distance, the density in area
+//! equal to `pdf·|cos θ_e|/t²`). Counts of shapes tried / accepted / with a bad
 //! sample are printed per inversion and scalar, with the first offending
 //! case and the case and `(u, v)` of the largest `outside_by`; none may
 //! have a bad sample.
