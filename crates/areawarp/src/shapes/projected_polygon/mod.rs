@@ -114,6 +114,9 @@ pub enum MarginalInversion {
 /// order along a meridian changes inside a lune (by more than 2^(−p/2) in
 /// r²) and inconsistent inner/outer alternation of the edges crossing a
 /// lune. A self-intersection exactly on a vertex meridian may go unnoticed.
+/// Given by points ([`ProjectedPolygon::from_points`]), also a light whose
+/// plane's distances or densities in area the type cannot hold
+/// ([`WarpError::Unrepresentable`]).
 ///
 /// # Precision
 /// For `f32` (a scalar narrower than its `Real::Wide`), every decision and
@@ -122,8 +125,9 @@ pub enum MarginalInversion {
 /// sample (Π at construction; the clamping ranges are then made from the
 /// rounded constants, `ranges.rs`): an `f32` polygon is
 /// accepted when the `f64` constructor accepts the same values, unless two
-/// consecutive unit vertices round together in `f32`
-/// ([`WarpError::Unrepresentable`]). Each sample's height
+/// consecutive unit vertices round together in `f32`, or (given by points)
+/// `f32` cannot hold the light's plane ([`WarpError::Unrepresentable`]).
+/// Each sample's height
 /// on its meridian is held inside the range of its interval's region in the
 /// lune, so that edges nearly along a meridian (whose height on a meridian
 /// is ill-conditioned) cannot carry it off the polygon
