@@ -1,8 +1,8 @@
 //! The projected polygon as a light seen from a point ([`LightWarp`]) and
 //! as a member of a family over scalar types ([`WarpFamily`]).
 
-use super::ProjectedPolygon;
 use super::geometry::Source;
+use super::{PlaneSlot, ProjectedPolygon};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::light_plane::LightPlane;
@@ -40,14 +40,19 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
         let [u, v] = uv;
         let (d, pdf) = self.map_with_pdf(&u, &v);
         let observer = self.observer();
-        // Set by `from_points`; for directions made here, once.
-        let plane = self.plane.get_or_init(|| {
-            let corners = match &self.source {
-                Source::Points { points, .. } => points,
-                Source::Directions(v) => v,
-            };
-            Self::light_plane(&self.measure, corners, &observer).ok()
-        });
+        let plane = match &self.plane {
+            PlaneSlot::Made(plane) => Some(plane),
+            // Vertex directions: the plane made here, once.
+            PlaneSlot::Lazy(cell) => cell
+                .get_or_init(|| {
+                    let corners = match &self.source {
+                        Source::Points { points, .. } => points,
+                        Source::Directions(v) => v,
+                    };
+                    Self::light_plane(&self.measure, corners, &observer).ok()
+                })
+                .as_ref(),
+        };
         match plane {
             Some(plane) => plane.sample(d, pdf, &observer),
             None => LightPlane::on_unit_sphere(d, pdf, &observer),

@@ -181,16 +181,23 @@ pub struct ProjectedPolygon<T: Real> {
     /// [`ProjectedPolygon::active`]; each fit at the first sample in its
     /// lune, [`ProjectedPolygon::fit`]).
     active: OnceLock<Vec<ActiveLune<T>>>,
-    /// The plane of the corners for `sample_light`: made by
-    /// [`ProjectedPolygon::from_points`] (which refuses a plane `T` cannot
-    /// hold); for vertex directions ([`ProjectedPolygon::new`]) at the first
-    /// call, `None` where `T` cannot hold it.
-    plane: OnceLock<Option<LightPlane<T>>>,
+    /// The plane of the corners for `sample_light`.
+    plane: PlaneSlot<T>,
     measure: T,
     /// The solid angle before clipping: set by the constructor where its
     /// validation needed it, else computed on first use.
     solid_angle: OnceLock<T>,
     two_pi: T,
+}
+
+/// Where [`ProjectedPolygon`]'s light plane is: made by the constructor
+/// from points (which refuses a plane `T` cannot hold), or, for vertex
+/// directions, at the first `sample_light` (`None` where `T` cannot hold
+/// it: the sample's point is then on the unit sphere).
+#[derive(Clone, Debug)]
+enum PlaneSlot<T> {
+    Made(LightPlane<T>),
+    Lazy(OnceLock<Option<LightPlane<T>>>),
 }
 
 impl<T: Real> ProjectedPolygon<T> {
@@ -237,7 +244,7 @@ impl<T: Real> ProjectedPolygon<T> {
     pub fn new_with(vertices: &[Vec3<T>], inversion: MarginalInversion) -> Result<Self, WarpError> {
         Self::build(
             Source::Directions(vertices.to_vec()),
-            vertices,
+            vertices.iter().cloned(),
             None,
             inversion,
         )
@@ -324,24 +331,23 @@ impl<T: Real> ProjectedPolygon<T> {
             }
             Err(e) => return Err(e),
         };
-        let frame = Frame::about_unit(n);
-        let mut local = Vec::with_capacity(points.len());
-        for p in points {
-            if !p.is_finite() {
-                return Err(WarpError::NonFinite {
-                    what: "polygon vertex",
-                });
-            }
-            local.push(frame.to_local(&p.sub(observer)));
+        if points.iter().any(|p| !p.is_finite()) {
+            return Err(WarpError::NonFinite {
+                what: "polygon vertex",
+            });
         }
+        let frame = Frame::about_unit(n);
+        // The local directions as the validation reads them (no vector of
+        // them is made).
+        let local = points.iter().map(|p| frame.to_local(&p.sub(observer)));
         Self::build(
             Source::Points {
                 points: points.to_vec(),
                 observer: observer.clone(),
                 normal: normal.clone(),
             },
-            &local,
-            Some(frame),
+            local,
+            Some(frame.clone()),
             inversion,
         )
     }
@@ -362,7 +368,7 @@ impl<T: Real> ProjectedPolygon<T> {
 
     fn build(
         source: Source<T>,
-        local: &[Vec3<T>],
+        local: impl ExactSizeIterator<Item = Vec3<T>>,
         frame: Option<Frame<T>>,
         inversion: MarginalInversion,
     ) -> Result<Self, WarpError> {
@@ -373,7 +379,7 @@ impl<T: Real> ProjectedPolygon<T> {
         // computed in the wide type too and rounded (`narrow.rs`).
         // Repeated vertices are dropped (`coincident.rs`).
         let (vertices_w, solid_angle_w) = prepare(
-            local.iter().map(widen3),
+            local.map(|v| widen3(&v)),
             &coincidence_scale::<T>(),
             |i, j| source.same_direction(i, j),
         )?;
@@ -402,8 +408,8 @@ impl<T: Real> ProjectedPolygon<T> {
         let plane = match &source {
             Source::Points {
                 points, observer, ..
-            } => OnceLock::from(Some(Self::light_plane(&measure, points, observer)?)),
-            Source::Directions(_) => OnceLock::new(),
+            } => PlaneSlot::Made(Self::light_plane(&measure, points, observer)?),
+            Source::Directions(_) => PlaneSlot::Lazy(OnceLock::new()),
         };
         Ok(ProjectedPolygon {
             source,
