@@ -219,6 +219,16 @@ pub struct LightSample<T> {
 /// (spherical triangle, spherical rectangle, projected polygon, sphere
 /// light): it also places the sampled direction on the emitter.
 ///
+/// A light given in space (a rectangle, a sphere, a triangle or polygon
+/// `from_points`) is refused by its constructor when the scalar type cannot
+/// hold its distances or densities in area
+/// ([`WarpError::Unrepresentable`](crate::WarpError::Unrepresentable)), so
+/// that every point it returns lies on the emitter, with
+/// `pdf_area = pdf·|cos θ_e|/distance²`. A shape given by vertex
+/// directions (`new`) has no emitter of its own: the plane of its vectors
+/// as given stands for one, and where the type cannot hold that plane the
+/// point is the direction itself (distance 1, `pdf_area = pdf`).
+///
 /// A renderer that draws one sample per light and shading point need not
 /// build the shape: the one-shot light samples
 /// [`SphericalTriangle::sample_light_once`](crate::shapes::SphericalTriangle::sample_light_once),
