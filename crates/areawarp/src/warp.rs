@@ -222,7 +222,7 @@ pub struct LightSample<T> {
 /// A light given in space (a rectangle, a sphere, a triangle or polygon
 /// `from_points`) is refused by its constructor when the scalar type cannot
 /// hold its distances or densities in area
-/// ([`WarpError::Unrepresentable`](crate::WarpError::Unrepresentable)), so
+/// ([`WarpError::Unrepresentable`]), so
 /// that every point it returns lies on the emitter, with
 /// `pdf_area = pdf·|cos θ_e|/distance²`. A shape given by vertex
 /// directions (`new`) has no emitter of its own: the plane of its vectors
