@@ -252,22 +252,27 @@ pub fn v3<T: Real>(a: &[f64; 3]) -> Vec3<T> {
 
 /// Whether a light sample agrees with itself (`None`) or how it does not:
 /// its point lies along its direction at its distance from `observer`
-/// (within `64u` of `|point| + |observer| + distance + extent`, `extent`
-/// the magnitude of the coordinates the point is formed from: the
-/// rectangle's corner and edges, the sphere's centre and radius), and its density
-/// in area is its density in solid angle times `|cos θ_e|/distance²`, with
-/// `θ_e` the angle at the emitter between the direction and `normal` (the
-/// emitter's unit normal at the point, in `f64`, known to `normal_error`),
-/// within `64u` relatively, widened by `1/|cos θ_e|` for the errors of the
-/// rounded direction and of `normal` in the cosine. A density in area of
-/// 0 is left to the caller's own rule (the sphere's rim, the polygon's
-/// horizon), and so is the density where the cosine is within `64` times
-/// those errors of 0 (the reference cannot resolve it).
+/// ([`light_point_consistency`]), and its density in area is its density
+/// in solid angle times `|cos θ_e|/distance²` ([`light_density_consistency`]).
 pub fn light_consistency<T: Real>(
     s: &areawarp::LightSample<T>,
     observer: &Vec3<T>,
     normal: &Vec3<f64>,
     normal_error: f64,
+    extent: f64,
+) -> Option<String> {
+    light_point_consistency(s, observer, extent)
+        .or_else(|| light_density_consistency(s, normal, normal_error))
+}
+
+/// Whether the sample's point lies along its direction at its distance
+/// from `observer`, within `64u` of `|point| + |observer| + distance +
+/// extent` (`extent` the magnitude of the coordinates the point is formed
+/// from: the rectangle's corner and edges, the sphere's centre and
+/// radius); `None` if it does.
+pub fn light_point_consistency<T: Real>(
+    s: &areawarp::LightSample<T>,
+    observer: &Vec3<T>,
     extent: f64,
 ) -> Option<String> {
     let u = T::unit_roundoff().to_f64();
@@ -277,15 +282,31 @@ pub fn light_consistency<T: Real>(
     let t = s.distance.to_f64();
     let gap = o.add(&d.scale(&t)).sub(&p).norm();
     let scale = p.norm() + o.norm() + t + extent;
-    if !(gap <= 64.0 * u * scale) {
-        return Some(format!(
-            "point {gap:e} from observer + distance·direction (scale {scale:e})"
-        ));
-    }
+    (!(gap <= 64.0 * u * scale))
+        .then(|| format!("point {gap:e} from observer + distance·direction (scale {scale:e})"))
+}
+
+/// Whether the sample's density in area is its density in solid angle
+/// times `|cos θ_e|/distance²`, with `θ_e` the angle at the emitter between
+/// the direction and `normal` (the emitter's unit normal at the point, in
+/// `f64`, known to `normal_error`), within `64u` relatively, widened by
+/// `1/|cos θ_e|` for the errors of the rounded direction and of `normal` in
+/// the cosine; `None` if it is. A density of 0 is left to the caller's own
+/// rule (the sphere's rim, the polygon's horizon), and so is the density
+/// where the cosine is within `64` times those errors of 0 (the reference
+/// cannot resolve it).
+pub fn light_density_consistency<T: Real>(
+    s: &areawarp::LightSample<T>,
+    normal: &Vec3<f64>,
+    normal_error: f64,
+) -> Option<String> {
+    let u = T::unit_roundoff().to_f64();
     let got = s.pdf_area.to_f64();
     if got == 0.0 {
         return None;
     }
+    let d: Vec3<f64> = s.direction.convert();
+    let t = s.distance.to_f64();
     let cos = d.dot(normal).abs();
     if !(cos > 64.0 * (u + normal_error)) {
         // The reference cannot resolve the cosine (a grazing ray, or a
