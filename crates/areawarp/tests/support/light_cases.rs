@@ -289,9 +289,12 @@ pub fn light_point_consistency<T: Real>(
 /// Whether the sample's density in area is its density in solid angle
 /// times `|cos θ_e|/distance²`, with `θ_e` the angle at the emitter between
 /// the direction and `normal` (the emitter's unit normal at the point, in
-/// `f64`, known to `normal_error`), within `64u` relatively, widened by
+/// `f64`, known to `normal_error`), within `256u` relatively, widened by
 /// `1/|cos θ_e|` for the errors of the rounded direction and of `normal` in
-/// the cosine; `None` if it is. A density of 0 is left to the caller's own
+/// the cosine (the sample's own `|cos θ_e|³` carries three times its
+/// cosine's relative error, and a plane seen at a grazing angle its
+/// distance's; `64u` was exceeded by 1.1–1.3× on two `f64` triangles of
+/// the large light fuzz, seeds 98 and 108); `None` if it is. A density of 0 is left to the caller's own
 /// rule (the sphere's rim, the polygon's horizon), and so is the density
 /// where the cosine is within `64` times those errors of 0 (the reference
 /// cannot resolve it).
@@ -315,7 +318,7 @@ pub fn light_density_consistency<T: Real>(
     }
     let expect = s.pdf.to_f64() * cos / t / t;
     let rel = (got - expect).abs() / expect;
-    (!(rel <= 64.0 * (u * (1.0 + 1.0 / cos) + normal_error / cos))).then(|| {
+    (!(rel <= 256.0 * (u * (1.0 + 1.0 / cos) + normal_error / cos))).then(|| {
         format!(
             "density in area {got:e}, expected pdf·|cos θ_e|/t² = {expect:e} (|cos θ_e| = {cos:e})"
         )
