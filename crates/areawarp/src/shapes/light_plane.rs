@@ -45,13 +45,13 @@ fn unrepresentable() -> WarpError {
 
 /// The plane of an emitter's corners before its densities are known
 /// ([`LightPlane::geometry`]): the plane itself in `T`, and in `T::Wide`
-/// the scale `2^-e`, `q` and `c_min` that the range check of
+/// the `q`, `c_min` and `max|V|` that the range check of
 /// [`PlaneGeometry::check`] reads.
 #[derive(Clone, Debug)]
 pub(crate) struct PlaneGeometry<T: Real> {
     plane: LightPlane<T>,
-    /// `2^-e`, `q = 2^-e/t₀` (scaled `t₀`), `c_min` and `max|V|` (scaled),
-    /// in the wide type.
+    /// `q = 2^-e/t₀` (scaled `t₀`), `c_min` and `max|V|` (scaled), in the
+    /// wide type.
     q: T::Wide,
     c_min: T::Wide,
     far: T::Wide,
