@@ -341,8 +341,10 @@ impl<T: Real> ProjectedPolygon<T> {
         // The light's plane from the inputs alone, first, so that its
         // roots and divisions run beside the validation's; its error (if
         // any) is reported after the polygon's own, and its range check
-        // waits for the densities (`build`).
-        let plane = LightPlane::geometry(points, observer);
+        // waits for the densities (`build`). Fewer than three points are
+        // refused by the validation (the plane would index a missing
+        // corner).
+        let plane = (points.len() >= 3).then(|| LightPlane::geometry(points, observer));
         // The local directions as the validation reads them (no vector of
         // them is made).
         let local = points.iter().map(|p| frame.to_local(&p.sub(observer)));
@@ -354,7 +356,7 @@ impl<T: Real> ProjectedPolygon<T> {
             },
             local,
             Some(frame.clone()),
-            Some(plane),
+            plane,
             inversion,
         )
     }

@@ -170,6 +170,17 @@ fn projected_polygon_constructor_errors() {
     let tri = [v(0.2, 0.0, 1.0), v(0.0, 0.3, 1.0), v(-0.1, -0.1, 1.0)];
     assert!(ProjectedPolygon::new(&tri).is_ok());
     assert!(is_degenerate(ProjectedPolygon::new(&tri[..2])));
+    // By points: fewer than three are refused, none included (the light's
+    // plane, made before the validation, must not read a missing corner).
+    let (o, n) = (v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0));
+    for k in 0..3 {
+        assert!(is_degenerate(ProjectedPolygon::from_points(
+            &tri[..k],
+            &o,
+            &n
+        )));
+    }
+    assert!(ProjectedPolygon::from_points(&tri, &o, &n).is_ok());
     let mut nan = tri;
     nan[1].y = f64::NAN;
     assert!(matches!(
