@@ -43,22 +43,6 @@ fn unrepresentable() -> WarpError {
     }
 }
 
-/// The plane of an emitter's corners before its densities are known
-/// ([`LightPlane::geometry`]): the plane itself in `T`, and in `T::Wide`
-/// the `q`, `c_min` and `max|V|` that the range check of
-/// [`PlaneGeometry::check`] reads.
-#[derive(Clone, Debug)]
-pub(crate) struct PlaneGeometry<T: Real> {
-    plane: LightPlane<T>,
-    /// `q = 2^-e/t₀` (scaled `t₀`), `c_min` and `max|V|` (scaled), in the
-    /// wide type.
-    q: T::Wide,
-    c_min: T::Wide,
-    far: T::Wide,
-    /// `2^e`.
-    up: T,
-}
-
 impl<T: Real> LightPlane<T> {
     /// The plane of `corners` seen from `observer` (their differences,
     /// formed in `T`, as the shapes give them; at least three corners;
@@ -76,17 +60,6 @@ impl<T: Real> LightPlane<T> {
         pdf_max: &T,
         pdf_min: &T,
     ) -> Result<Self, WarpError> {
-        Self::geometry(corners, observer)?.check(pdf_max, pdf_min)
-    }
-
-    /// The first half of [`LightPlane::new`]: the plane of `corners` seen
-    /// from `observer`, from the inputs alone (a caller whose densities
-    /// come later can start it first).
-    #[inline(always)]
-    pub fn geometry(
-        corners: &[Vec3<T>],
-        observer: &Vec3<T>,
-    ) -> Result<PlaneGeometry<T>, WarpError> {
         type W<T> = <T as Real>::Wide;
         let rel = |p: &Vec3<T>| p.sub(observer);
         let m = corners
@@ -123,19 +96,28 @@ impl<T: Real> LightPlane<T> {
         // K = 1/(t₀ 2^e)² = q², q = 2^−e/t₀, applied as the sample applies
         // it, ((pdf·q)·q): K alone may leave even the wide type's range.
         let q = down / &t0;
+        let density = |pdf: &T, c: &W<T>| pdf.widen() * &q * &q * c * c * c;
+        let p_max = density(pdf_max, &W::<T>::one());
+        let p_min = density(pdf_min, &c_min);
         let up = T::exp2i(e);
-        Ok(PlaneGeometry {
-            plane: LightPlane {
-                n: narrow3::<T>(&n),
-                t0: T::narrow(&t0) * &up,
-                q: T::narrow(&q),
-                c_min: T::narrow(&c_min),
-            },
-            q,
-            c_min,
-            far,
-            up,
-        })
+        let plane = LightPlane {
+            n: narrow3::<T>(&n),
+            t0: T::narrow(&t0) * &up,
+            q: T::narrow(&q),
+            c_min: T::narrow(&c_min),
+        };
+        let sixteen = T::from_i64(16);
+        let in_range = p_max <= (T::max_value() / &sixteen).widen()
+            && T::narrow(&p_min) >= T::normal_floor() * &sixteen
+            && plane.t0 >= T::normal_floor()
+            && (T::narrow(&far) * &up).is_finite()
+            && plane.q.is_finite_above(&T::normal_floor())
+            && plane.c_min.is_finite_above(&T::zero());
+        if in_range {
+            Ok(plane)
+        } else {
+            Err(unrepresentable())
+        }
     }
 
     /// The light sample of the unit direction `d` (from the map) with
@@ -170,38 +152,6 @@ impl<T: Real> LightPlane<T> {
             distance: T::one(),
             pdf_area: pdf.clone(),
             pdf,
-        }
-    }
-}
-
-impl<T: Real> PlaneGeometry<T> {
-    /// The second half of [`LightPlane::new`]: the plane, or
-    /// `Unrepresentable` if `T` cannot hold its distances or its densities
-    /// in area for densities in solid angle between `pdf_min` and
-    /// `pdf_max`.
-    #[inline(always)]
-    pub fn check(self, pdf_max: &T, pdf_min: &T) -> Result<LightPlane<T>, WarpError> {
-        let PlaneGeometry {
-            plane,
-            q,
-            c_min,
-            far,
-            up,
-        } = self;
-        let density = |pdf: &T, c: &T::Wide| pdf.widen() * &q * &q * c * c * c;
-        let p_max = density(pdf_max, &T::Wide::one());
-        let p_min = density(pdf_min, &c_min);
-        let sixteen = T::from_i64(16);
-        let in_range = p_max <= (T::max_value() / &sixteen).widen()
-            && T::narrow(&p_min) >= T::normal_floor() * &sixteen
-            && plane.t0 >= T::normal_floor()
-            && (T::narrow(&far) * &up).is_finite()
-            && plane.q.is_finite_above(&T::normal_floor())
-            && plane.c_min.is_finite_above(&T::zero());
-        if in_range {
-            Ok(plane)
-        } else {
-            Err(unrepresentable())
         }
     }
 }

@@ -24,7 +24,7 @@ use super::turns::{atan2_by_atan, clamp_unit};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
-use crate::shapes::light_plane::{LightPlane, PlaneGeometry};
+use crate::shapes::light_plane::LightPlane;
 use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
 use crate::warp::InverseError;
@@ -246,7 +246,6 @@ impl<T: Real> ProjectedPolygon<T> {
             Source::Directions(vertices.to_vec()),
             vertices.iter().cloned(),
             None,
-            None,
             inversion,
         )
     }
@@ -338,13 +337,6 @@ impl<T: Real> ProjectedPolygon<T> {
             });
         }
         let frame = Frame::about_unit(n);
-        // The light's plane from the inputs alone, first, so that its
-        // roots and divisions run beside the validation's; its error (if
-        // any) is reported after the polygon's own, and its range check
-        // waits for the densities (`build`). Fewer than three points are
-        // refused by the validation (the plane would index a missing
-        // corner).
-        let plane = (points.len() >= 3).then(|| LightPlane::geometry(points, observer));
         // The local directions as the validation reads them (no vector of
         // them is made).
         let local = points.iter().map(|p| frame.to_local(&p.sub(observer)));
@@ -356,7 +348,6 @@ impl<T: Real> ProjectedPolygon<T> {
             },
             local,
             Some(frame.clone()),
-            plane,
             inversion,
         )
     }
@@ -370,26 +361,17 @@ impl<T: Real> ProjectedPolygon<T> {
         corners: &[Vec3<T>],
         observer: &Vec3<T>,
     ) -> Result<LightPlane<T>, WarpError> {
-        let (pdf_max, pdf_min) = Self::density_range(measure);
+        let pdf_max = T::one() / measure;
+        let pdf_min = pdf_max.clone() * &T::exp2i(-10);
         LightPlane::new(corners, observer, &pdf_max, &pdf_min)
     }
 
-    /// The densities in solid angle the light's plane must serve: `1/Π`
-    /// and `2^-10` of it.
-    fn density_range(measure: &T) -> (T, T) {
-        let pdf_max = T::one() / measure;
-        let pdf_min = pdf_max.clone() * &T::exp2i(-10);
-        (pdf_max, pdf_min)
-    }
-
-    /// The polygon of the local directions `local`; `plane`, for a polygon
-    /// given by points, the geometry of its light's plane (checked here
-    /// against the densities once Π is known).
+    /// The polygon of the local directions `local` (and, given by points,
+    /// its light's plane).
     fn build(
         source: Source<T>,
         local: impl ExactSizeIterator<Item = Vec3<T>>,
         frame: Option<Frame<T>>,
-        plane: Option<Result<PlaneGeometry<T>, WarpError>>,
         inversion: MarginalInversion,
     ) -> Result<Self, WarpError> {
         // Validation, orientation and solid angle in the wide type (f64 for
@@ -425,12 +407,11 @@ impl<T: Real> ProjectedPolygon<T> {
         // densities in area) `T` cannot hold is refused, as
         // `SphericalTriangle::from_points` refuses it, instead of placing
         // its samples off the emitter.
-        let plane = match plane {
-            Some(geometry) => {
-                let (pdf_max, pdf_min) = Self::density_range(&measure);
-                PlaneSlot::Made(geometry?.check(&pdf_max, &pdf_min)?)
-            }
-            None => PlaneSlot::Lazy(OnceLock::new()),
+        let plane = match &source {
+            Source::Points {
+                points, observer, ..
+            } => PlaneSlot::Made(Self::light_plane(&measure, points, observer)?),
+            Source::Directions(_) => PlaneSlot::Lazy(OnceLock::new()),
         };
         Ok(ProjectedPolygon {
             source,

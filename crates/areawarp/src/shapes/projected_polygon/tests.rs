@@ -171,7 +171,7 @@ fn projected_polygon_constructor_errors() {
     assert!(ProjectedPolygon::new(&tri).is_ok());
     assert!(is_degenerate(ProjectedPolygon::new(&tri[..2])));
     // By points: fewer than three are refused, none included (the light's
-    // plane, made before the validation, must not read a missing corner).
+    // plane, which reads the corners, must not be made before that).
     let (o, n) = (v(0.0, 0.0, 0.0), v(0.0, 0.0, 1.0));
     for k in 0..3 {
         assert!(is_degenerate(ProjectedPolygon::from_points(
