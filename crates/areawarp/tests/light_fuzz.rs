@@ -154,17 +154,13 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
     t.by_kind.entry(case.kind).or_default().1 += 1;
     // The light sample: a finite point at a finite positive distance, a
     // finite positive area density; from points, the point on their plane.
-    // The plane of the directions `p − o` as T holds them (rounded to T:
-    // the triangle `from_points` builds, whose plane its light samples
-    // use; an f32 rounding of the differences moves a plane seen at a
-    // grazing angle by more than the density check's tolerance).
-    let plane = case.observer.as_ref().map(|o| {
-        let rel = |p: &[f64; 3]| v3::<T>(p).sub(&v3::<T>(o)).convert::<f64>();
-        let [a, b, c] = [rel(&case.v[0]), rel(&case.v[1]), rel(&case.v[2])];
-        let n = b.sub(&a).cross(&c.sub(&a));
-        let n = n.scale(&(1.0 / n.norm()));
-        (a, n, v3::<T>(o).convert::<f64>())
-    });
+    // The plane of the directions `p − o` as T holds them (an f32 rounding
+    // of the differences moves a plane seen at a grazing angle by more
+    // than the density check's tolerance).
+    let plane = case
+        .observer
+        .as_ref()
+        .map(|o| emitter_plane::<T>(&case.v, o));
     let points = case.observer.as_ref().map(|o| [a, b, c, v3::<T>(o)]);
     let robust = variant == SphericalTriangleVariant::Robust;
     let extra = |u: &T, v: &T| {
@@ -180,7 +176,12 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         if !s.pdf_area.is_finite_above(&T::zero()) {
             return Some(format!("area density {}", s.pdf_area));
         }
-        let (a, n, o) = plane.as_ref()?;
+        let EmitterPlane {
+            observer: o,
+            first: a,
+            normal: n,
+            ..
+        } = plane.as_ref()?;
         let p = s.point.convert::<f64>().sub(o);
         let off = p.sub(a).dot(n).abs();
         let scale = a.norm() + p.norm() + o.norm();

@@ -33,7 +33,10 @@ use std::collections::BTreeMap;
 
 #[path = "support/light_cases.rs"]
 mod light_cases;
-use light_cases::{light_density_consistency, light_point_consistency, runner, unit_values, v3};
+use light_cases::{
+    EmitterPlane, emitter_plane, light_density_consistency, light_point_consistency, runner,
+    unit_values, v3,
+};
 
 #[path = "support/polygon_cases.rs"]
 mod polygon_cases;
@@ -91,7 +94,10 @@ fn bad_sample<T: Real>(
     }
     grid.extend(extra.iter().map(|&(u, v)| (T::from_f64(u), T::from_f64(v))));
     let tol = w.on_shape_tolerance();
-    let plane = emitter_plane::<T>(case);
+    let plane = case
+        .seen_from
+        .as_ref()
+        .map(|(o, _)| emitter_plane::<T>(&case.vertices, o));
     for (u, v) in grid {
         let (p, pdf) = w.map_with_pdf(&u, &v);
         let why = if !p.is_finite() {
@@ -135,9 +141,9 @@ fn bad_sample<T: Real>(
             // solid angle it may leave the normal range (documented).
             let why = match off_plane(plane, &s.point) {
                 Some(off) => Some(format!("{off:.3e} off the corners' plane")),
-                None => light_point_consistency(&s, &plane.0.convert(), 0.0).or_else(|| {
+                None => light_point_consistency(&s, &plane.observer.convert(), 0.0).or_else(|| {
                     (!horizon)
-                        .then(|| light_density_consistency(&s, &plane.2, 0.0))
+                        .then(|| light_density_consistency(&s, &plane.normal, 0.0))
                         .flatten()
                 }),
             };
@@ -149,36 +155,17 @@ fn bad_sample<T: Real>(
     None
 }
 
-/// For a polygon given by points, its plane as `T` holds it (from the
-/// corners relative to the observer, `p − o` rounded to `T`, as the
-/// polygon's light forms them; in `f64`): the observer, the corners'
-/// centroid and the unit normal of their fan.
-fn emitter_plane<T: Real>(case: &PolygonCase) -> Option<(Vec3<f64>, Vec3<f64>, Vec3<f64>)> {
-    let (o, _) = case.seen_from.as_ref()?;
-    let o_t = v3::<T>(o);
-    let o: Vec3<f64> = o_t.convert();
-    let rel: Vec<Vec3<f64>> = case
-        .vertices
-        .iter()
-        .map(|p| v3::<T>(p).sub(&o_t).convert::<f64>())
-        .collect();
-    let mut normal = Vec3::zero();
-    for k in 1..rel.len() - 1 {
-        normal = normal.add(&rel[k].sub(&rel[0]).cross(&rel[k + 1].sub(&rel[0])));
-    }
-    let centroid = rel
-        .iter()
-        .fold(Vec3::zero(), |c, p| c.add(p))
-        .scale(&(1.0 / rel.len() as f64));
-    Some((o, centroid, normal.scale(&(1.0 / normal.norm()))))
-}
-
 /// How far (relative) the light sample's `point` lies from the emitter's
-/// `plane` ([`emitter_plane`]), if farther than `64·u` of `T` times the
+/// plane ([`emitter_plane`]), if farther than `64·u` of `T` times the
 /// magnitudes involved: the point must be on the emitter, not only
 /// finite.
 fn off_plane<T: Real>(
-    (o, centroid, n): &(Vec3<f64>, Vec3<f64>, Vec3<f64>),
+    EmitterPlane {
+        observer: o,
+        centroid,
+        normal: n,
+        ..
+    }: &EmitterPlane,
     point: &Vec3<T>,
 ) -> Option<f64> {
     let q = point.convert::<f64>().sub(o);

@@ -324,3 +324,40 @@ pub fn light_density_consistency<T: Real>(
         )
     })
 }
+
+/// The plane of a light's corners as `T` holds them, in `f64` relative to
+/// the observer: from the differences `p − o` rounded to `T` (what
+/// `from_points` builds the triangle and the polygon from, and their light
+/// samples' plane), the normal of their fan of triangles.
+pub struct EmitterPlane {
+    /// The observer (rounded to `T`).
+    pub observer: Vec3<f64>,
+    /// The first corner and the corners' centroid, relative to the observer.
+    pub first: Vec3<f64>,
+    pub centroid: Vec3<f64>,
+    /// The unit normal `Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀)/|…|`.
+    pub normal: Vec3<f64>,
+}
+
+/// [`EmitterPlane`] of the corners `points` seen from `observer`.
+pub fn emitter_plane<T: Real>(points: &[[f64; 3]], observer: &[f64; 3]) -> EmitterPlane {
+    let o = v3::<T>(observer);
+    let rel: Vec<Vec3<f64>> = points
+        .iter()
+        .map(|p| v3::<T>(p).sub(&o).convert::<f64>())
+        .collect();
+    let mut normal = Vec3::zero();
+    for k in 1..rel.len() - 1 {
+        normal = normal.add(&rel[k].sub(&rel[0]).cross(&rel[k + 1].sub(&rel[0])));
+    }
+    let centroid = rel
+        .iter()
+        .fold(Vec3::zero(), |c, p| c.add(p))
+        .scale(&(1.0 / rel.len() as f64));
+    EmitterPlane {
+        observer: o.convert(),
+        first: rel[0],
+        centroid,
+        normal: normal.scale(&(1.0 / normal.norm())),
+    }
+}
