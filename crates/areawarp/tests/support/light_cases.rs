@@ -289,15 +289,14 @@ pub fn light_point_consistency<T: Real>(
 /// Whether the sample's density in area is its density in solid angle
 /// times `|cos θ_e|/distance²`, with `θ_e` the angle at the emitter between
 /// the direction and `normal` (the emitter's unit normal at the point, in
-/// `f64`, known to `normal_error`), within `256u` relatively, widened by
-/// `1/|cos θ_e|` for the errors of the rounded direction and of `normal` in
-/// the cosine (the sample's own `|cos θ_e|³` carries three times its
-/// cosine's relative error, and a plane seen at a grazing angle its
-/// distance's; `64u` was exceeded by 1.1–1.3× on two `f64` triangles of
-/// the large light fuzz, seeds 98 and 108); `None` if it is. A density of 0 is left to the caller's own
-/// rule (the sphere's rim, the polygon's horizon), and so is the density
-/// where the cosine is within `64` times those errors of 0 (the reference
-/// cannot resolve it).
+/// `f64`, known to `normal_error`), within [`density_factor`]` · u`
+/// relatively, widened by `1/|cos θ_e|` for the errors of the rounded
+/// direction and of `normal` in the cosine (the sample's own `|cos θ_e|³`
+/// carries three times its cosine's relative error, and a plane seen at a
+/// grazing angle its distance's); `None` if it is. A density of 0 is left
+/// to the caller's own rule (the sphere's rim, the polygon's horizon), and
+/// so is the density where the cosine is within `64` times those errors of
+/// 0 (the reference cannot resolve it).
 pub fn light_density_consistency<T: Real>(
     s: &areawarp::LightSample<T>,
     normal: &Vec3<f64>,
@@ -318,11 +317,44 @@ pub fn light_density_consistency<T: Real>(
     }
     let expect = s.pdf.to_f64() * cos / t / t;
     let rel = (got - expect).abs() / expect;
-    (!(rel <= 256.0 * (u * (1.0 + 1.0 / cos) + normal_error / cos))).then(|| {
+    let k = density_factor::<T>();
+    (!(rel <= k * (u * (1.0 + 1.0 / cos) + normal_error / cos))).then(|| {
         format!(
             "density in area {got:e}, expected pdf·|cos θ_e|/t² = {expect:e} (|cos θ_e| = {cos:e})"
         )
     })
+}
+
+/// The factor of [`light_density_consistency`]'s tolerance, in units of
+/// `u(1 + 1/|cos θ_e|)`.
+///
+/// For `T` narrower than `f64` (`f32`) the reference, evaluated in `f64`
+/// from the sample's own direction, distance and density in solid angle
+/// and a normal from the corners as `T` holds them, is exact to within
+/// `2⁻²⁹` of `T`'s errors, so the factor bounds the library's own error:
+/// the cosine `d·n̂` formed in `T` from a direction within a few units and a
+/// rounded normal (about `8u/|cos|`), cubed (`24u/|cos|`), the distance
+/// `t₀/|cos|` squared in the reference (`16u/|cos|`) and the products by
+/// `1/t₀` (a few `u`): about `40`, taken as `64`. The light and polygon
+/// fuzzes reach `8.4` (`light_fuzz` at fast sizes, seeds 1–40, grazing
+/// rays with `|cos| ≈ 10⁻⁵`), `4.0` (its large sizes, seeds 1–41) and
+/// `3.4` (`polygon_fuzz_large`, seeds 1–61). A density wrong by `10⁻⁵`
+/// (`168u`) is caught on 283 of 2,023 robust `f32` triangles, 290 of 1,738
+/// rectangles, 317 of 1,058 sphere lights and 47 of 460 polygons of seed
+/// 1 (fast sizes), where a factor of `256` caught none.
+///
+/// In `f64` the reference's normal is no more accurate than the library's
+/// (both in `f64`, from a fan of differences that cancel for a thin or far
+/// emitter, which `normal_error` does not always cover): `256`, after `64`
+/// was exceeded by 1.1–1.3× on two triangles of the large light fuzz
+/// (seeds 98 and 108); the large fuzz reaches `38` on seeds 1–41 and the
+/// large polygon fuzz `3.9` on seeds 1–61.
+pub fn density_factor<T: Real>() -> f64 {
+    if T::precision() < f64::MANTISSA_DIGITS {
+        64.0
+    } else {
+        256.0
+    }
 }
 
 /// The plane of a light's corners as `T` holds them, in `f64` relative to
