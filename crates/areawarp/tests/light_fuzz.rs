@@ -140,13 +140,7 @@ fn bad_sample<T: Real, W: Warp<T, Point = Vec3<T>>>(
 fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant, t: &mut Tally) {
     t.tried += 1;
     t.by_kind.entry(case.kind).or_default().0 += 1;
-    let [a, b, c] = [v3::<T>(&case.v[0]), v3(&case.v[1]), v3(&case.v[2])];
-    let built = match &case.observer {
-        None => SphericalTriangle::new_with(a.clone(), b.clone(), c.clone(), variant),
-        Some(o) => SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), v3(o))
-            .map(|w| w.with_variant(variant)),
-    };
-    let w = match built {
+    let w = match case.build::<T>(variant) {
         Ok(w) => w,
         Err(e) => return t.reject(&e),
     };
@@ -161,7 +155,10 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         .observer
         .as_ref()
         .map(|o| emitter_plane::<T>(&case.v, o));
-    let points = case.observer.as_ref().map(|o| [a, b, c, v3::<T>(o)]);
+    let points = case
+        .observer
+        .as_ref()
+        .map(|o| [case.v[0], case.v[1], case.v[2], *o].map(|p| v3::<T>(&p)));
     let robust = variant == SphericalTriangleVariant::Robust;
     let extra = |u: &T, v: &T| {
         let s = w.sample_light([u.clone(), v.clone()]);
@@ -196,14 +193,7 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
 fn run_rectangle<T: Real>(case: &RectangleCase, variant: SphericalRectangleVariant, t: &mut Tally) {
     t.tried += 1;
     t.by_kind.entry(case.kind).or_default().0 += 1;
-    let built = SphericalRectangle::new_with(
-        v3::<T>(&case.s),
-        v3(&case.ex),
-        v3(&case.ey),
-        v3(&case.o),
-        variant,
-    );
-    let w = match built {
+    let w = match case.build::<T>(variant) {
         Ok(w) => w,
         Err(e) => return t.reject(&e),
     };
@@ -568,17 +558,7 @@ mod issue_13 {
         };
         runner(config.clone())
             .run(&triangle_case(), |case| {
-                let v = |a: &[f64; 3]| Vec3::new(a[0], a[1], a[2]);
-                let t = match &case.observer {
-                    None => SphericalTriangle::new(v(&case.v[0]), v(&case.v[1]), v(&case.v[2])),
-                    Some(o) => SphericalTriangle::from_points(
-                        v(&case.v[0]),
-                        v(&case.v[1]),
-                        v(&case.v[2]),
-                        v(o),
-                    ),
-                };
-                if let Ok(t) = t {
+                if let Ok(t) = case.build::<f64>(SphericalTriangleVariant::Robust) {
                     audit(&t, &mut tri.borrow_mut(), &format!("{case:?}"));
                 }
                 Ok(())
@@ -586,10 +566,7 @@ mod issue_13 {
             .unwrap();
         runner(config)
             .run(&rectangle_case(), |case| {
-                let v = |a: &[f64; 3]| Vec3::new(a[0], a[1], a[2]);
-                if let Ok(r) =
-                    SphericalRectangle::new(v(&case.s), v(&case.ex), v(&case.ey), v(&case.o))
-                {
+                if let Ok(r) = case.build::<f64>(SphericalRectangleVariant::Robust) {
                     audit(&r, &mut rect.borrow_mut(), &format!("{case:?}"));
                 }
                 Ok(())
@@ -671,17 +648,7 @@ mod issue_13 {
         );
         runner(config.clone())
             .run(&triangle_case(), |case| {
-                let v = |a: &[f64; 3]| Vec3::new(a[0], a[1], a[2]);
-                let t = match &case.observer {
-                    None => SphericalTriangle::new(v(&case.v[0]), v(&case.v[1]), v(&case.v[2])),
-                    Some(o) => SphericalTriangle::from_points(
-                        v(&case.v[0]),
-                        v(&case.v[1]),
-                        v(&case.v[2]),
-                        v(o),
-                    ),
-                };
-                if let Ok(t) = t {
+                if let Ok(t) = case.build::<f64>(SphericalTriangleVariant::Robust) {
                     let f = || Some((advise(&t).ok()?, measure(&t, &pts).ok()?));
                     tally(&f, &mut tri.borrow_mut(), &format!("{case:?}"));
                 }
@@ -690,10 +657,7 @@ mod issue_13 {
             .unwrap();
         runner(config)
             .run(&rectangle_case(), |case| {
-                let v = |a: &[f64; 3]| Vec3::new(a[0], a[1], a[2]);
-                if let Ok(r) =
-                    SphericalRectangle::new(v(&case.s), v(&case.ex), v(&case.ey), v(&case.o))
-                {
+                if let Ok(r) = case.build::<f64>(SphericalRectangleVariant::Robust) {
                     let f = || Some((advise(&r).ok()?, measure(&r, &pts).ok()?));
                     tally(&f, &mut rect.borrow_mut(), &format!("{case:?}"));
                 }

@@ -7,7 +7,10 @@
 //! accepted shape is sampled at.
 #![allow(dead_code)] // each test crate uses a part
 
-use areawarp::{Real, Vec3};
+use areawarp::shapes::{
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+};
+use areawarp::{Real, Vec3, WarpError};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
@@ -28,6 +31,34 @@ pub struct RectangleCase {
     pub ex: [f64; 3],
     pub ey: [f64; 3],
     pub o: [f64; 3],
+}
+
+impl TriangleCase {
+    /// The case's triangle in `T` with `variant`: of the vertex
+    /// directions, or of the points seen from the observer.
+    pub fn build<T: Real>(
+        &self,
+        variant: SphericalTriangleVariant,
+    ) -> Result<SphericalTriangle<T>, WarpError> {
+        let [a, b, c] = self.v.each_ref().map(|p| v3::<T>(p));
+        match &self.observer {
+            None => SphericalTriangle::new_with(a, b, c, variant),
+            Some(o) => {
+                SphericalTriangle::from_points(a, b, c, v3(o)).map(|w| w.with_variant(variant))
+            }
+        }
+    }
+}
+
+impl RectangleCase {
+    /// The case's rectangle in `T` with `variant`.
+    pub fn build<T: Real>(
+        &self,
+        variant: SphericalRectangleVariant,
+    ) -> Result<SphericalRectangle<T>, WarpError> {
+        let [s, ex, ey, o] = [&self.s, &self.ex, &self.ey, &self.o].map(|x| v3::<T>(x));
+        SphericalRectangle::new_with(s, ex, ey, o, variant)
+    }
 }
 
 pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
