@@ -105,17 +105,24 @@ macro_rules! baselines {
 baselines!(base_f32, f32);
 baselines!(base_f64, f64);
 
-/// Sums the coordinates so that no evaluation can be optimized away.
+/// Sums each coordinate over the batch, so that no evaluation can be
+/// optimized away: one accumulator per coordinate, so that the loop's own
+/// dependent additions (one per sample and coordinate, 3 cycles each) do
+/// not set a floor under the maps' throughput. With a single sum, four
+/// dependent additions per sample (≈ 4.1 ns) hid the cost of maps below it
+/// (2026-11-29, before `Real::clamp` became two selects: the planar
+/// triangle `f32` measured 0.91–0.95 of its baseline with one sum and
+/// 1.10–1.15 with one sum per coordinate).
 #[inline]
 pub fn run<T: Copy + Into<f64>, const D: usize>(pts: &[(T, T)], f: impl Fn(T, T) -> [T; D]) -> f64 {
-    let mut acc = 0.0;
+    let mut acc = [0.0; D];
     for &(u, v) in pts {
         let p = f(black_box(u), black_box(v));
-        for x in p {
-            acc += x.into();
+        for (a, x) in acc.iter_mut().zip(p) {
+            *a += x.into();
         }
     }
-    acc
+    acc.iter().sum()
 }
 
 /// The triangle of the benchmark: arbitrary, off the origin, not axis-aligned.

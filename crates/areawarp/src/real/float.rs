@@ -236,8 +236,12 @@ macro_rules! impl_real_for_float {
             }
             #[inline]
             fn clamp(&self, lo: &Self, hi: &Self) -> Self {
-                // Branch-free: `max` returns `lo` for a NaN `self`.
-                $t::min($t::max(*self, *lo), *hi)
+                // Two selects, each one `maxss`/`minss` (NaN `self` fails
+                // `>` and maps to `lo`), where `max`/`min` are NaN-aware
+                // sequences of about four instructions each; the same
+                // values, but `-0.0` clamped at `lo = 0` is `+0.0`.
+                let x = if *self > *lo { *self } else { *lo };
+                if x < *hi { x } else { *hi }
             }
             #[inline]
             fn square(&self) -> Self {
