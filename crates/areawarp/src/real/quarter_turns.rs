@@ -120,8 +120,9 @@ const COS_W: [f64; 5] = [
 /// exactly before its rounding to `f32`. Here `r·c` and `r·s` are formed
 /// in `f64` and rounded once each (rounding commutes with negation), and
 /// the quarter turns are swaps and negations selected by the bits of `q`
-/// (no table, no products by 0 and ±1; `+ 0.0` turns `−0` into `+0`, as
-/// the rotation's sums do for `r > 0`). NaN `v` gives NaN coordinates.
+/// with masks, without a branch (no table, no products by 0 and ±1;
+/// `+ 0.0` turns `−0` into `+0`, as the rotation's sums do for `r > 0`).
+/// NaN `v` gives NaN coordinates.
 ///
 /// [`Real::polar_turns`]: super::Real::polar_turns
 #[inline(always)]
@@ -134,11 +135,20 @@ pub(crate) fn polar_turns_f32(v: f32, r: f32) -> (f32, f32) {
     let (s, c) = sin_cos_poly(w, &SIN_W, &COS_W);
     let r = r as f64;
     let (rc, rs) = ((r * c) as f32, (r * s) as f32);
-    // i^q·(rc + i·rs): an odd q swaps (one quarter turn), q ≥ 2 negates
-    // (a half turn).
-    let (x, y) = if q & 1 == 0 { (rc, rs) } else { (-rs, rc) };
-    let (x, y) = if q & 2 == 0 { (x, y) } else { (-x, -y) };
-    (x + 0.0, y + 0.0)
+    // i^q·(rc + i·rs): an odd q swaps and negates the first coordinate
+    // (one quarter turn), q ≥ 2 negates both (a half turn). On the bits,
+    // without a branch: q is as random as v, and a branch on it was
+    // mispredicted half the time. A negation is a flip of the sign bit.
+    const SIGN: u32 = 1 << 31;
+    let odd = 0u32.wrapping_sub(q & 1);
+    let (c_bits, s_bits) = (rc.to_bits(), rs.to_bits());
+    let x = (c_bits & !odd) | ((s_bits ^ SIGN) & odd);
+    let y = (s_bits & !odd) | (c_bits & odd);
+    let half = (q & 2) << 30;
+    (
+        f32::from_bits(x ^ half) + 0.0,
+        f32::from_bits(y ^ half) + 0.0,
+    )
 }
 
 /// π/2 rounded to 24 bits (`f32`'s π/2): `xh·SIN64_HI` is exact for a
