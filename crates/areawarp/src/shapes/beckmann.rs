@@ -8,8 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// Microfacet normals about `+z` with the isotropic Beckmann distribution of
 /// roughness α, sampled with density `D(m) cos θ_m` per steradian

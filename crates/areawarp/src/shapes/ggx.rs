@@ -8,8 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// Validates a microfacet roughness: finite and `> 0`.
 pub(crate) fn check_roughness<T: Real>(alpha: &T) -> Result<(), WarpError> {

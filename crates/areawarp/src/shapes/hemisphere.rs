@@ -6,9 +6,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::InverseError;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// Uniform directions on the unit upper hemisphere `{|p| = 1, z ≥ 0}`
 /// (Arvo 2001, eq. 1.26):

@@ -8,9 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real, convert};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::InverseError;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// Which formula evaluates `z = u^(1/(k+1))`: the exact special cases
 /// `k = 0` (`z = u`) and `k = 1` (`z = √u`), or the logarithmic general form.

@@ -8,9 +8,7 @@ use crate::error::WarpError;
 use crate::real::{Embed, Real};
 use crate::recipe::{AreaDensity, MarginalConditional, Parametrization, Recipe};
 use crate::vector::Vec3;
-use crate::warp::InverseError;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 use rand::{Rng, RngExt};
 
 /// A right-handed orthonormal frame `(e1, e2, axis)` around a unit axis.

@@ -9,8 +9,7 @@ use super::wide::{largest_abs, scale_exponent};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily};
+use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily, on_shape_tolerance};
 
 /// How far a direction with `w = 1 − cos θ` and `sin θ` lies beyond the rim
 /// of a cone with `h = 1 − cos θ_max`, `sin θ_max`, as an angle:

@@ -8,8 +8,7 @@ use super::turns::{clamp_unit, positive};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::vector::Vec3;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// Uniform directions (in solid angle) in the spherical lune
 /// `L = {|p| = 1, n₁·p ≥ 0, n₂·p ≥ 0}` bounded by the great circles with

@@ -7,8 +7,7 @@ use super::turns::{clamp_unit, polar_turns, turns_of};
 use crate::error::WarpError;
 use crate::real::{Real, convert};
 use crate::vector::Vec3;
-use crate::warp::on_shape_tolerance;
-use crate::warp::{InverseError, Warp, WarpFamily};
+use crate::warp::{InverseError, Warp, WarpFamily, on_shape_tolerance};
 
 /// `ln(1 + x)/x`, 1 at `x = 0` (the limit).
 fn log1p_ratio<T: Real>(x: &T) -> T {

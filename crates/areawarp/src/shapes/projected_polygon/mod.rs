@@ -27,9 +27,7 @@ use crate::recipe::{Cdf1, Inverter, Newton, Tolerance};
 use crate::shapes::light_plane::LightPlane;
 use crate::shapes::wide::{narrow3, widen3};
 use crate::vector::Vec3;
-use crate::warp::InverseError;
-use crate::warp::Warp;
-use crate::warp::on_shape_tolerance;
+use crate::warp::{InverseError, Warp, on_shape_tolerance};
 use std::sync::OnceLock;
 
 /// How the marginal CDF of a lune is inverted (step 4 of the recipe; the
