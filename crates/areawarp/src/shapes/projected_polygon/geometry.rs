@@ -22,6 +22,16 @@ pub(super) enum Source<T> {
     },
 }
 
+impl<T> Source<T> {
+    /// The corners as given: the points, or the vertex directions.
+    pub(super) fn corners(&self) -> &[Vec3<T>] {
+        match self {
+            Source::Points { points, .. } => points,
+            Source::Directions(v) => v,
+        }
+    }
+}
+
 /// The frame `(e1, e2, n)` with the receiver's unit normal `n` as local
 /// `+z`: the axially symmetric warps' [`LocalFrame`] (Duff et al. 2017).
 pub(super) use crate::shapes::local_frame::LocalFrame as Frame;

@@ -45,11 +45,7 @@ impl<T: Real> LightWarp<T> for ProjectedPolygon<T> {
             // Vertex directions: the plane made here, once.
             PlaneSlot::Lazy(cell) => cell
                 .get_or_init(|| {
-                    let corners = match &self.source {
-                        Source::Points { points, .. } => points,
-                        Source::Directions(v) => v,
-                    };
-                    Self::light_plane(&self.measure, corners, &observer).ok()
+                    Self::light_plane(&self.measure, self.source.corners(), &observer).ok()
                 })
                 .as_ref(),
         };
