@@ -173,19 +173,12 @@ fn run_triangle<T: Real>(case: &TriangleCase, variant: SphericalTriangleVariant,
         if !s.pdf_area.is_finite_above(&T::zero()) {
             return Some(format!("area density {}", s.pdf_area));
         }
-        let EmitterPlane {
-            observer: o,
-            first: a,
-            normal: n,
-            ..
-        } = plane.as_ref()?;
-        let p = s.point.convert::<f64>().sub(o);
-        let off = p.sub(a).dot(n).abs();
-        let scale = a.norm() + p.norm() + o.norm();
+        let plane = plane.as_ref()?;
+        let (off, scale) = plane.offset(&s.point);
         if off > tolerance::<T>().to_f64() * scale {
             return Some(format!("point {off:e} off the plane"));
         }
-        light_consistency(&s, &o.convert(), n, 0.0, 0.0)
+        light_consistency(&s, &plane.observer.convert(), &plane.normal, 0.0, 0.0)
     };
     check_samples(&w, (case, case.kind), extra, t);
 }

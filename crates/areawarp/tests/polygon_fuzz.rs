@@ -156,21 +156,11 @@ fn bad_sample<T: Real>(
 }
 
 /// How far (relative) the light sample's `point` lies from the emitter's
-/// plane ([`emitter_plane`]), if farther than `64·u` of `T` times the
+/// plane ([`EmitterPlane::offset`]), if farther than `64·u` of `T` times the
 /// magnitudes involved: the point must be on the emitter, not only
 /// finite.
-fn off_plane<T: Real>(
-    EmitterPlane {
-        observer: o,
-        centroid,
-        normal: n,
-        ..
-    }: &EmitterPlane,
-    point: &Vec3<T>,
-) -> Option<f64> {
-    let q = point.convert::<f64>().sub(o);
-    let off = q.sub(centroid).dot(n).abs();
-    let scale = q.norm() + centroid.norm() + o.norm();
+fn off_plane<T: Real>(plane: &EmitterPlane, point: &Vec3<T>) -> Option<f64> {
+    let (off, scale) = plane.offset(point);
     let limit = 64.0 * T::unit_roundoff().to_f64() * scale;
     (!(off <= limit)).then_some(off / scale)
 }

@@ -395,11 +395,22 @@ pub fn density_factor<T: Real>() -> f64 {
 pub struct EmitterPlane {
     /// The observer (rounded to `T`).
     pub observer: Vec3<f64>,
-    /// The first corner and the corners' centroid, relative to the observer.
-    pub first: Vec3<f64>,
+    /// The corners' centroid, relative to the observer.
     pub centroid: Vec3<f64>,
     /// The unit normal `Σ (Vᵢ − V₀) × (Vᵢ₊₁ − V₀)/|…|`.
     pub normal: Vec3<f64>,
+}
+
+impl EmitterPlane {
+    /// How far the light sample's `point` lies from the plane, and the
+    /// scale of the magnitudes it was formed from
+    /// (`|point − observer| + |centroid| + |observer|`): each fuzz holds the
+    /// ratio to its own tolerance.
+    pub fn offset<T: Real>(&self, point: &Vec3<T>) -> (f64, f64) {
+        let q = point.convert::<f64>().sub(&self.observer);
+        let off = q.sub(&self.centroid).dot(&self.normal).abs();
+        (off, q.norm() + self.centroid.norm() + self.observer.norm())
+    }
 }
 
 /// [`EmitterPlane`] of the corners `points` seen from `observer`.
@@ -419,7 +430,6 @@ pub fn emitter_plane<T: Real>(points: &[[f64; 3]], observer: &[f64; 3]) -> Emitt
         .scale(&(1.0 / rel.len() as f64));
     EmitterPlane {
         observer: o.convert(),
-        first: rel[0],
         centroid,
         normal: normal.scale(&(1.0 / normal.norm())),
     }
