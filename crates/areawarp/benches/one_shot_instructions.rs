@@ -4,7 +4,7 @@
 //! triangle and rectangle, `f32` and `f64`). Wall time on a shared machine
 //! moves by tens of percent; an instruction count does not, and it shows
 //! what a one-shot at 2.5× the prepared sample's time would have to leave
-//! out (`docs/spherical-triangle.md`, "What the one-shot executes").
+//! out (`docs/spherical-triangle-one-shot.md`, "What the one-shot executes").
 //!
 //! ```text
 //! cargo bench -p areawarp --bench one_shot_instructions --no-run

@@ -15,6 +15,7 @@
 //! | [`sphere`] | The sphere by Archimedes' theorem (Shao and Badler 1996). |
 //! | [`quarter_turns`] | The azimuth `2πv`: exact quarter-turn reduction and the `f32`/`f64` sine–cosine kernels of the reduced angle. |
 //! | [`spherical_triangle`] | The spherical triangle (Arvo 1995), literal and robust. |
+//! | [`spherical_triangle_one_shot`] | The spherical triangle's one-shot sample and solid angle: their cost, and the rounds of work on it. |
 //! | [`spherical_rectangle`] | The spherical rectangle (Ureña, Fajardo and King 2013), literal and robust. |
 //! | [`projected_polygon`] | The projected spherical polygon: cosine-weighted sampling (Arvo 2001). |
 //! | [`projected_polygon_cost`] | The projected polygon's construction cost, and the rounds of work on it. |
@@ -53,6 +54,9 @@ pub mod quarter_turns {}
 
 #[doc = include_str!("../docs/spherical-triangle.md")]
 pub mod spherical_triangle {}
+
+#[doc = include_str!("../docs/spherical-triangle-one-shot.md")]
+pub mod spherical_triangle_one_shot {}
 
 #[doc = include_str!("../docs/spherical-rectangle.md")]
 pub mod spherical_rectangle {}

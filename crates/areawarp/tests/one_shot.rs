@@ -223,3 +223,39 @@ fn one_shot_rectangles_agree_with_the_shape() {
     println!("rectangles f32: {:?}\nrectangles f64: {:?}", n[0], n[1]);
     assert!(n.iter().all(|c| c.accepted > 1000 && c.samples > 0));
 }
+
+/// Triangles that `f32` can serve from one end of the arc AC and not from
+/// the other (two vertices `10⁻³⁰` apart: `4/|V − B|²` of the anchor at that
+/// end overflows `f32`; Ω ≈ 10⁻³⁰ does not): the constructor refuses them,
+/// so the one-shot paths must refuse them for every `u`, with the same
+/// error, and not sample the half of `u` whose end `f32` could hold. Their
+/// `f64` versions are accepted and must agree bit for bit.
+#[test]
+fn one_shot_refuses_what_one_end_of_the_shape_cannot_hold() {
+    let near = [1.0, 1e-30, 0.0];
+    let cases = [
+        // B and C close: the anchor at C fails.
+        [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], near],
+        // A and B close: the anchor at A fails.
+        [near, [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+    ];
+    let (mut n32, mut n64) = (Counts::default(), Counts::default());
+    for v in cases {
+        for observer in [None, Some([0.0; 3])] {
+            let case = TriangleCase {
+                kind: "one end out of f32's range",
+                v,
+                observer,
+            };
+            let [a, b, c] = v.map(|p| v3::<f32>(&p));
+            assert!(SphericalTriangle::new(a, b, c).is_err());
+            for u in [0.25f32, 0.75] {
+                assert!(SphericalTriangle::sample_once(&a, &b, &c, &u, &0.5).is_err());
+            }
+            triangle::<f32>(&case, &mut n32);
+            triangle::<f64>(&case, &mut n64);
+        }
+    }
+    assert_eq!((n32.tried, n32.accepted, n32.samples), (4, 0, 0));
+    assert_eq!((n64.tried, n64.accepted, n64.samples), (4, 4, 4 * 36));
+}

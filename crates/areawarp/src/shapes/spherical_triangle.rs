@@ -28,7 +28,7 @@ use crate::shapes::turns::clamp_unit;
 use crate::shapes::wide::{check_finite, narrow3, unit_vector, widen3};
 use crate::vector::Vec3;
 use crate::warp::{InverseError, LightSample, LightWarp, Warp, WarpFamily, on_shape_tolerance};
-use build::{Anchor, Core, Scalars};
+use build::{Anchor, Core, Scalars, Validated};
 use literal::Literal;
 use std::sync::{Arc, OnceLock};
 
@@ -262,8 +262,9 @@ impl<T: Real> WideInverse<T> for WideTriangle<T> {
     }
 }
 
-/// The directions `p_i − observer` rounded to `T`, and the wide core.
-type PointsCore<T> = ([Vec3<T>; 3], Core<<T as Real>::Wide>);
+/// The directions `p_i − observer` rounded to `T`, and the wide triangle
+/// validated.
+type PointsValidated<T> = ([Vec3<T>; 3], Validated<<T as Real>::Wide>);
 
 /// The reason a triangle is rejected.
 fn out_of_range() -> WarpError {
@@ -317,7 +318,7 @@ impl<T: Real> SphericalTriangle<T> {
             inv_omega,
             half_omega,
             d,
-        } = Scalars::of(core)?;
+        } = Scalars::of(&core.v, &core.d)?;
         let anchors = [
             core.anchor(true)?.narrow::<T>().ok_or_else(out_of_range)?,
             core.anchor(false)?.narrow::<T>().ok_or_else(out_of_range)?,
@@ -383,7 +384,8 @@ impl<T: Real> SphericalTriangle<T> {
         p2: Vec3<T>,
         observer: Vec3<T>,
     ) -> Result<Self, WarpError> {
-        let (d, core) = Self::from_points_core(&p0, &p1, &p2, &observer)?;
+        let (d, tri) = Self::from_points_validated(&p0, &p1, &p2, &observer)?;
+        let core = Core::from_validated(tri)?;
         let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust, true)?;
         t.observer = observer;
         Ok(t)
@@ -411,15 +413,15 @@ impl<T: Real> SphericalTriangle<T> {
         w.map(|x| x / &sum)
     }
 
-    /// The directions `p_i − observer` rounded to `T`, and the core of the
-    /// triangle of the wide directions.
+    /// The directions `p_i − observer` rounded to `T`, and the triangle of
+    /// the wide directions validated.
     #[inline(always)]
-    fn from_points_core(
+    fn from_points_validated(
         p0: &Vec3<T>,
         p1: &Vec3<T>,
         p2: &Vec3<T>,
         observer: &Vec3<T>,
-    ) -> Result<PointsCore<T>, WarpError> {
+    ) -> Result<PointsValidated<T>, WarpError> {
         check_finite([
             (p0, "point 0"),
             (p1, "point 1"),
@@ -439,8 +441,8 @@ impl<T: Real> SphericalTriangle<T> {
                 (&d[2], "vertex C"),
             ])?;
         }
-        let core = Core::new(&d[0], &d[1], &d[2])?;
-        Ok((d.map(|v| narrow3::<T>(&v)), core))
+        let tri = Validated::new(&d[0], &d[1], &d[2])?;
+        Ok((d.map(|v| narrow3::<T>(&v)), tri))
     }
 
     /// The same triangle evaluated with `variant`.

@@ -101,7 +101,8 @@ pub(super) struct Core<W> {
     pub sin_b: W,
     /// `d = sin c sin α = |det| / sin b`, formed as `|det|·(1/sin b)` with
     /// the tangent's reciprocal (two roundings), and `1/d = sin b / |det|`
-    /// (one rounding).
+    /// (one rounding), of the anchor at A (the anchor at C forms its own
+    /// from its tangent, [`Core::anchor`]).
     pub d: W,
     pub inv_d: W,
     /// `sin c cos α = (B − A)·[C|A]`.
@@ -110,7 +111,7 @@ pub(super) struct Core<W> {
 
 /// The triangle validated, with its solid angle: what
 /// [`SphericalTriangle::solid_angle_of`](super::SphericalTriangle::solid_angle_of)
-/// needs, and the first half of [`Core::new`].
+/// needs, and the first half of [`Core::from_validated`].
 #[derive(Clone, Debug)]
 pub(super) struct Validated<W> {
     pub a: Vec3<W>,
@@ -231,16 +232,115 @@ impl<W: Real> Validated<W> {
     }
 }
 
-impl<W: Real> Core<W> {
-    /// Validates the (finite) vertex directions `a`, `b`, `c` and computes
-    /// the shared constants.
+/// Where one end's anchor decides for both: `1/d ≤ max/16` and
+/// `|A − B|², |C − B|² ≥ 64/max` (`max` the largest value of the target
+/// type, in `W`). Inside, every constant of both anchors (`(1 + cos)/d`,
+/// `k/d`, `4/|V − B|²`, `V − B`) and `d` itself are far inside the target
+/// type's range, whichever end's rounding of `sin b` they take, so the
+/// constructor's range checks cannot refuse the triangle for the end a
+/// one-shot sample does not form; outside (tiny or extremely thin
+/// triangles at the bottom of the type's range), the one-shot runs the
+/// constructor's checks.
+pub(super) struct OneEndBounds<W> {
+    pub max_inv_d: W,
+    pub min_chord2: W,
+}
+
+impl<W: Real> OneEndBounds<W> {
+    /// The bounds for the target type `T` (`T::Wide = W`).
     #[inline(always)]
-    pub fn new(a: &Vec3<W>, b: &Vec3<W>, c: &Vec3<W>) -> Result<Self, WarpError> {
-        let v = Validated::new(a, b, c)?;
+    pub fn of<T: Real<Wide = W>>() -> Self {
+        let max = T::max_value().widen();
+        OneEndBounds {
+            min_chord2: W::from_i64(64) / &max,
+            max_inv_d: max / W::from_i64(16),
+        }
+    }
+}
+
+impl<W: Real> Validated<W> {
+    /// The unit tangent at V = A (`from_a`) or C along the arc AC towards
+    /// the other end, `sin b` and `1/sin b` ([`tangent`] of the chords
+    /// `±(A − C)` and `A + C`).
+    #[inline(always)]
+    pub fn tangent_at(&self, from_a: bool) -> Option<(Vec3<W>, W, W)> {
+        let (x, minus) = if from_a {
+            (&self.a, self.ca.neg())
+        } else {
+            (&self.c, self.ca.clone())
+        };
+        tangent(x, (&minus, &self.q_ca), (&self.s_ca, &self.p_ca))
+    }
+
+    /// The anchor at V = A (`from_a`) or C alone, with its `d =
+    /// |det|/sin b`: the tangent at V and nothing of the other end (what one
+    /// sample needs). The same values as [`Core::from_validated`] and
+    /// [`Core::anchor`] compute for that end. The range of `d` is not
+    /// tested here; the flag is `true` when the triangle is inside `bounds`
+    /// ([`OneEndBounds`]), where that end's tests decide as the
+    /// constructor's tests of both ends do.
+    #[inline(always)]
+    pub fn anchor_alone(
+        &self,
+        from_a: bool,
+        bounds: &OneEndBounds<W>,
+    ) -> Result<(Anchor<W>, W, bool), WarpError> {
+        if from_a {
+            self.anchor_alone_at::<true>(bounds)
+        } else {
+            self.anchor_alone_at::<false>(bounds)
+        }
+    }
+
+    /// [`Validated::anchor_alone`] compiled for one end: selecting the
+    /// end's inputs without a branch was slower (the one-shot sample
+    /// 113 → 125 ns in `f32`; `docs/spherical-triangle-one-shot.md`).
+    #[inline(always)]
+    fn anchor_alone_at<const FROM_A: bool>(
+        &self,
+        bounds: &OneEndBounds<W>,
+    ) -> Result<(Anchor<W>, W, bool), WarpError> {
+        let from_a = FROM_A;
+        let (along, sin_b, inv_sin_b) = self.tangent_at(from_a).ok_or(reject::ANTIPODAL)?;
+        let abs_det = self.det.abs();
+        let d = abs_det.clone() * &inv_sin_b;
+        let inv_d = sin_b / &abs_det;
+        // By comparisons: a NaN fails them.
+        let inside = inv_d <= bounds.max_inv_d
+            && self.at_b[0].0 >= bounds.min_chord2
+            && self.at_b[1].0 >= bounds.min_chord2;
+        Ok((self.anchor_with(from_a, &along, &inv_d)?, d, inside))
+    }
+
+    /// The anchor at V = A (`from_a`) or C given the tangent `along` there
+    /// and `inv_d`.
+    #[inline(always)]
+    fn anchor_with(
+        &self,
+        from_a: bool,
+        along: &Vec3<W>,
+        inv_d: &W,
+    ) -> Result<Anchor<W>, WarpError> {
+        // ±1: the sign of det(A, B, C) for V = A, its opposite for V = C.
+        let positive = (self.det > W::zero()) == from_a;
+        let sign = if positive { W::one() } else { -W::one() };
+        // V − B: A − B = −(B − A) exactly, or C − B.
+        let (vertex, minus, at_b) = if from_a {
+            (&self.a, self.ab.neg(), &self.at_b[0])
+        } else {
+            (&self.c, self.bc.clone(), &self.at_b[1])
+        };
+        Anchor::new(vertex, along, &self.b, (&minus, at_b), inv_d, &sign)
+    }
+}
+
+impl<W: Real> Core<W> {
+    /// The shared constants of the validated triangle `v`.
+    #[inline(always)]
+    pub fn from_validated(v: Validated<W>) -> Result<Self, WarpError> {
         let ccw = v.det > W::zero();
         let abs_det = v.det.abs();
-        let (c_perp, sin_b, inv_sin_b) =
-            tangent(&v.a, (&v.ca.neg(), &v.q_ca), (&v.s_ca, &v.p_ca)).ok_or(reject::ANTIPODAL)?;
+        let (c_perp, sin_b, inv_sin_b) = v.tangent_at(true).ok_or(reject::ANTIPODAL)?;
         // d by the normalization's reciprocal; 1/d by its own division,
         // which runs beside the tangent's (no division waits on another).
         let d = abs_det.clone() * &inv_sin_b;
@@ -262,35 +362,19 @@ impl<W: Real> Core<W> {
         })
     }
 
-    /// The anchor of the map at A (`from_a = true`) or C.
+    /// The anchor of the map at A (`from_a = true`) or C. The anchor at A
+    /// takes the tangent [C|A] and `1/d` the core holds; the anchor at C its
+    /// own tangent [A|C] and `1/d = sin b/|det|` with that tangent's
+    /// `sin b` (equal to A's up to rounding): bit for bit what
+    /// [`Validated::anchor_alone`] computes for the same end.
     #[inline(always)]
     pub fn anchor(&self, from_a: bool) -> Result<Anchor<W>, WarpError> {
         if from_a {
-            // A − B = −(B − A) exactly.
-            let minus = self.v.ab.neg();
-            Anchor::new(
-                &self.v.a,
-                &self.c_perp,
-                &self.v.b,
-                (&minus, &self.v.at_b[0]),
-                &self.inv_d,
-                &self.sign,
-            )
+            self.v.anchor_with(true, &self.c_perp, &self.inv_d)
         } else {
-            let (along, _, _) = tangent(
-                &self.v.c,
-                (&self.v.ca, &self.v.q_ca),
-                (&self.v.s_ca, &self.v.p_ca),
-            )
-            .ok_or(reject::ANTIPODAL)?;
-            Anchor::new(
-                &self.v.c,
-                &along,
-                &self.v.b,
-                (&self.v.bc, &self.v.at_b[1]),
-                &self.inv_d,
-                &-self.sign.clone(),
-            )
+            let (along, sin_b, _) = self.v.tangent_at(false).ok_or(reject::ANTIPODAL)?;
+            let inv_d = sin_b / &self.v.det.abs();
+            self.v.anchor_with(false, &along, &inv_d)
         }
     }
 
@@ -309,8 +393,10 @@ impl<W: Real> Core<W> {
 
 /// The constants of the robust map measured from one end V of the arc AC
 /// (V = A for u ≤ 1/2, V = C for u > 1/2, W the other end), all divided by
-/// `d = sin c sin α = |det(A, B, C)| / sin b` (the same for both ends) so
-/// that they stay O(1) for tiny triangles.
+/// `d = sin c sin α = |det(A, B, C)| / sin b` (the same for both ends in
+/// exact arithmetic; each end takes `sin b` from its own tangent on the arc
+/// AC, so that one sample forms one tangent there) so that they stay O(1)
+/// for tiny triangles.
 #[derive(Clone, Debug)]
 pub(super) struct Anchor<T> {
     /// V.
@@ -405,16 +491,16 @@ pub(super) struct Scalars<T> {
 
 impl<T: Real> Scalars<T> {
     #[inline(always)]
-    pub fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
-        let (omega, inv_omega) = omega_in::<T>(&core.v.omega)?;
-        let d = T::narrow(&core.d);
+    pub fn of(tri: &Validated<T::Wide>, d: &T::Wide) -> Result<Self, WarpError> {
+        let (omega, inv_omega) = omega_in::<T>(&tri.omega)?;
+        let d = T::narrow(d);
         if !positive(&d) {
             return Err(reject::OUT_OF_RANGE);
         }
         Ok(Scalars {
             omega,
             inv_omega,
-            half_omega: T::narrow(&core.v.half_omega),
+            half_omega: T::narrow(&tri.half_omega),
             d,
         })
     }
@@ -452,8 +538,19 @@ pub(super) fn core_of<T: Real>(
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<Core<T::Wide>, WarpError> {
+    Core::from_validated(validated_of(a, b, c)?)
+}
+
+/// The triangle with the (finite) vertex directions `a`, `b`, `c` given in
+/// `T`, validated in `T::Wide`, with its solid angle.
+#[inline(always)]
+pub(super) fn validated_of<T: Real>(
+    a: &Vec3<T>,
+    b: &Vec3<T>,
+    c: &Vec3<T>,
+) -> Result<Validated<T::Wide>, WarpError> {
     let [a, b, c] = wide_directions(a, b, c)?;
-    Core::new(&a, &b, &c)
+    Validated::new(&a, &b, &c)
 }
 
 /// The solid angle Ω of the triangle with the vertex directions `a`, `b`,
@@ -466,6 +563,5 @@ pub(super) fn solid_angle_of<T: Real>(
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<T, WarpError> {
-    let [a, b, c] = wide_directions(a, b, c)?;
-    Ok(omega_in::<T>(&Validated::new(&a, &b, &c)?.omega)?.0)
+    Ok(omega_in::<T>(&validated_of(a, b, c)?.omega)?.0)
 }

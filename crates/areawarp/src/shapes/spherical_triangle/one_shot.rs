@@ -4,15 +4,15 @@
 //! half and, for a light sample, the plane), bit for bit what the built
 //! shape returns.
 
-use super::build::{self, Core, Scalars};
-use super::{SphericalTriangle, out_of_range, robust};
+use super::build::{self, Core, OneEndBounds, Scalars, Validated};
+use super::{SphericalTriangle, SphericalTriangleVariant, robust};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::light_plane::LightPlane;
 use crate::shapes::turns::clamp_unit;
 use crate::shapes::wide::narrow3;
 use crate::vector::Vec3;
-use crate::warp::LightSample;
+use crate::warp::{LightSample, LightWarp, Warp};
 
 impl<T: Real> SphericalTriangle<T> {
     /// One sample of the triangle with vertex directions `a`, `b`, `c`
@@ -42,8 +42,12 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
-        let core = build::core_of(a, b, c)?;
-        Self::sample_core::<false>(&core, u, v)
+        let tri = build::validated_of(a, b, c)?;
+        match Self::sample_core::<false>(&tri, u, v) {
+            Some(sample) => Ok(sample),
+            // The constructor decides (see `sample_core`).
+            None => cold(|| Ok(Self::new(a.clone(), b.clone(), c.clone())?.map_with_pdf(u, v))),
+        }
     }
 
     /// [`SphericalTriangle::sample_once`] for the triangle the points `p0`,
@@ -62,8 +66,18 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
-        let (_, core) = Self::from_points_core(p0, p1, p2, observer)?;
-        Self::sample_core::<false>(&core, u, v)
+        let (_, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
+        match Self::sample_core::<false>(&tri, u, v) {
+            Some(sample) => Ok(sample),
+            // The constructor decides (see `sample_core`), without the
+            // plane's checks, as above.
+            None => cold(|| {
+                let (input, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
+                let core = Core::from_validated(tri)?;
+                let robust = SphericalTriangleVariant::Robust;
+                Ok(Self::from_core(&core, input, robust, false)?.map_with_pdf(u, v))
+            }),
+        }
     }
 
     /// One light sample of the triangle with corners `p0`, `p1`, `p2` seen
@@ -107,39 +121,57 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<LightSample<T>, WarpError> {
-        let (input, core) = Self::from_points_core(p0, p1, p2, observer)?;
-        let (d, pdf) = Self::sample_core::<true>(&core, u, v)?;
+        let (input, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
+        let Some(hot) = Self::sample_core::<true>(&tri, u, v) else {
+            // The constructor decides (see `sample_core`).
+            return cold(|| {
+                let t = Self::from_points(p0.clone(), p1.clone(), p2.clone(), observer.clone())?;
+                Ok(t.sample_light([u.clone(), v.clone()]))
+            });
+        };
+        let (d, pdf) = hot;
         // The plane `from_points` builds (after every other check there,
         // so the same error comes first), of the same rounded directions.
         let plane = LightPlane::new(&input, &Vec3::zero(), &pdf, &pdf)?;
         Ok(plane.sample(d, pdf, observer))
     }
 
-    /// The sample of the validated `core` at `(u, v)` and its density; the
-    /// map inlined when `INLINE` (see [`robust::map_from_inlined`]).
+    /// The sample of the validated triangle `tri` at `(u, v)` and its
+    /// density; the map inlined when `INLINE` (see
+    /// [`robust::map_from_inlined`]). Only the anchor of `u`'s half is
+    /// formed ([`Validated::anchor_alone`]: one tangent on the arc AC, where
+    /// the built shape's constructor forms both ends').
+    ///
+    /// `None` where a range check fails or the triangle is at the bottom
+    /// of `T`'s range ([`OneEndBounds`]): there only the constructor's
+    /// checks of both ends decide as it does, and the caller builds the
+    /// shape (a cold path that takes the caller's inputs, so that the
+    /// validated triangle need not be kept in memory here). Inside the
+    /// bounds, the checks of one end pass exactly when the constructor's
+    /// pass, with the same values.
     #[inline(always)]
     fn sample_core<const INLINE: bool>(
-        core: &Core<T::Wide>,
+        tri: &Validated<T::Wide>,
         u: &T,
         v: &T,
-    ) -> Result<(Vec3<T>, T), WarpError> {
-        let Scalars {
-            inv_omega,
-            half_omega,
-            ..
-        } = Scalars::of(core)?;
-        let anchor = core
-            .anchor(robust::uses_anchor_a(&clamp_unit(u)))?
-            .narrow::<T>()
-            .ok_or_else(out_of_range)?;
-        let b = narrow3::<T>(&core.v.b);
-        let b_norm2 = build::norm2(&b);
-        let d = if INLINE {
-            robust::map_from_inlined(&anchor, &b, &b_norm2, &half_omega, u, v)
-        } else {
-            robust::map_from(&anchor, &b, &b_norm2, &half_omega, u, v)
+    ) -> Option<(Vec3<T>, T)> {
+        let from_a = robust::uses_anchor_a(&clamp_unit(u));
+        let (anchor, d, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
+        let in_range = inside && d.is_finite_above(&<T::Wide as Real>::zero());
+        let (Ok(scalars), Some(anchor), true) =
+            (Scalars::<T>::of(tri, &d), anchor.narrow::<T>(), in_range)
+        else {
+            return None;
         };
-        Ok((d, inv_omega))
+        let b = narrow3::<T>(&tri.b);
+        let b_norm2 = build::norm2(&b);
+        let half_omega = &scalars.half_omega;
+        let d = if INLINE {
+            robust::map_from_inlined(&anchor, &b, &b_norm2, half_omega, u, v)
+        } else {
+            robust::map_from(&anchor, &b, &b_norm2, half_omega, u, v)
+        };
+        Some((d, scalars.inv_omega))
     }
 
     /// The solid angle Ω of the triangle with vertex directions `a`, `b`,
@@ -154,4 +186,13 @@ impl<T: Real> SphericalTriangle<T> {
     pub fn solid_angle_of(a: &Vec3<T>, b: &Vec3<T>, c: &Vec3<T>) -> Result<T, WarpError> {
         build::solid_angle_of(a, b, c)
     }
+}
+
+/// `f()`, out of line and marked cold: the one-shot's path where the
+/// constructor decides (`SphericalTriangle::sample_core`), kept out of the
+/// hot path's code.
+#[cold]
+#[inline(never)]
+fn cold<R>(f: impl FnOnce() -> R) -> R {
+    f()
 }
