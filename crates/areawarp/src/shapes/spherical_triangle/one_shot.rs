@@ -43,7 +43,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let tri = build::validated_of(a, b, c)?;
-        match Self::sample_core::<false>(&tri, u, v) {
+        match Self::sample_direction(&tri, u, v) {
             Some(sample) => Ok(sample),
             // The constructor decides (see `sample_core`).
             None => cold(|| Ok(Self::new(a.clone(), b.clone(), c.clone())?.map_with_pdf(u, v))),
@@ -67,7 +67,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let (_, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
-        match Self::sample_core::<false>(&tri, u, v) {
+        match Self::sample_direction(&tri, u, v) {
             Some(sample) => Ok(sample),
             // The constructor decides (see `sample_core`), without the
             // plane's checks, as above.
@@ -134,6 +134,21 @@ impl<T: Real> SphericalTriangle<T> {
         // so the same error comes first), of the same rounded directions.
         let plane = LightPlane::new(&input, &Vec3::zero(), &pdf, &pdf)?;
         Ok(plane.sample(d, pdf, observer))
+    }
+
+    /// [`SphericalTriangle::sample_core`] for the direction-only one-shots:
+    /// the map inlined for `f32`, called out of line for wider types. Each
+    /// is the faster in `benches/one_shot_min` (2026-11-29, three rounds):
+    /// inlined, the `f32` one-shot / per-sample ratio went from 2.95 to
+    /// 2.83 and the `f64` one from 2.55 to 2.96 (`f64`'s wider values
+    /// spill: `docs/spherical-triangle-one-shot.md`).
+    #[inline(always)]
+    fn sample_direction(tri: &Validated<T::Wide>, u: &T, v: &T) -> Option<(Vec3<T>, T)> {
+        if T::precision() <= f32::MANTISSA_DIGITS {
+            Self::sample_core::<true>(tri, u, v)
+        } else {
+            Self::sample_core::<false>(tri, u, v)
+        }
     }
 
     /// The sample of the validated triangle `tri` at `(u, v)` and its
