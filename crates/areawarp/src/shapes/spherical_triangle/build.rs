@@ -518,20 +518,8 @@ pub(super) fn omega_in<T: Real>(wide: &T::Wide) -> Result<(T, T), WarpError> {
     Ok((omega, inv_omega))
 }
 
-/// The vertex directions `a`, `b`, `c` given in `T`, checked finite and
-/// widened.
-#[inline(always)]
-fn wide_directions<T: Real>(
-    a: &Vec3<T>,
-    b: &Vec3<T>,
-    c: &Vec3<T>,
-) -> Result<[Vec3<T::Wide>; 3], WarpError> {
-    check_finite([(a, "vertex A"), (b, "vertex B"), (c, "vertex C")])?;
-    Ok([widen3(a), widen3(b), widen3(c)])
-}
-
-/// The validated core of the triangle with the (finite) vertex directions
-/// `a`, `b`, `c` given in `T`.
+/// The validated core of the triangle with the vertex directions `a`, `b`,
+/// `c` given in `T` ([`validated_of`]).
 #[inline(always)]
 pub(super) fn core_of<T: Real>(
     a: &Vec3<T>,
@@ -541,16 +529,17 @@ pub(super) fn core_of<T: Real>(
     Core::from_validated(validated_of(a, b, c)?)
 }
 
-/// The triangle with the (finite) vertex directions `a`, `b`, `c` given in
-/// `T`, validated in `T::Wide`, with its solid angle.
+/// The triangle with the vertex directions `a`, `b`, `c` given in `T`,
+/// checked finite, widened and validated in `T::Wide`, with its solid
+/// angle.
 #[inline(always)]
 pub(super) fn validated_of<T: Real>(
     a: &Vec3<T>,
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<Validated<T::Wide>, WarpError> {
-    let [a, b, c] = wide_directions(a, b, c)?;
-    Validated::new(&a, &b, &c)
+    check_finite([(a, "vertex A"), (b, "vertex B"), (c, "vertex C")])?;
+    Validated::new(&widen3(a), &widen3(b), &widen3(c))
 }
 
 /// The solid angle Ω of the triangle with the vertex directions `a`, `b`,
