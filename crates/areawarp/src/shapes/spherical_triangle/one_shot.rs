@@ -140,8 +140,9 @@ impl<T: Real> SphericalTriangle<T> {
     /// the map inlined for `f32`, called out of line for wider types. Each
     /// is the faster in `benches/one_shot_min` (2026-11-29, three rounds):
     /// inlined, the `f32` one-shot / per-sample ratio went from 2.95 to
-    /// 2.83 and the `f64` one from 2.55 to 2.96 (`f64`'s wider values
-    /// spill: `docs/spherical-triangle-one-shot.md`).
+    /// 2.83 and the `f64` one from 2.55 to 2.96
+    /// (`docs/spherical-triangle-one-shot.md`; why `f64` loses was not
+    /// examined).
     #[inline(always)]
     fn sample_direction(tri: &Validated<T::Wide>, u: &T, v: &T) -> Option<(Vec3<T>, T)> {
         if T::precision() <= f32::MANTISSA_DIGITS {
