@@ -173,12 +173,11 @@ impl<T: Real> SphericalTriangle<T> {
     ) -> Option<(Vec3<T>, T)> {
         let from_a = robust::uses_anchor_a(&clamp_unit(u));
         let (anchor, d, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
-        let in_range = inside && d.is_finite_above(&<T::Wide as Real>::zero());
-        let (Ok(scalars), Some(anchor), true) =
-            (Scalars::<T>::of(tri, &d), anchor.narrow::<T>(), in_range)
-        else {
+        if !(inside && d.is_finite_above(&<T::Wide as Real>::zero())) {
             return None;
-        };
+        }
+        let scalars = Scalars::<T>::of(tri, &d).ok()?;
+        let anchor = anchor.narrow::<T>()?;
         let b = narrow3::<T>(&tri.b);
         let b_norm2 = build::norm2(&b);
         let half_omega = &scalars.half_omega;
