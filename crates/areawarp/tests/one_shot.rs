@@ -259,3 +259,26 @@ fn one_shot_refuses_what_one_end_of_the_shape_cannot_hold() {
     assert_eq!((n32.tried, n32.accepted, n32.samples), (4, 0, 0));
     assert_eq!((n64.tried, n64.accepted, n64.samples), (4, 4, 4 * 36));
 }
+
+/// Points whose difference from the observer overflows `f64` (the one-shot
+/// paths do not test the differences on their hot path; the validation
+/// fails there and the constructor names the error): the one-shot paths
+/// refuse them with the constructor's error.
+#[test]
+fn one_shot_refuses_an_overflowing_difference_as_the_constructor_does() {
+    let big = f64::MAX * 0.75;
+    let o = Vec3::new(-big, 0.0, 0.0);
+    let (p0, p1, p2) = (
+        Vec3::new(big, 0.0, 0.0),
+        Vec3::new(-big, 1.0, 0.0),
+        Vec3::new(-big, 0.0, 1.0),
+    );
+    let built = SphericalTriangle::from_points(p0, p1, p2, o).unwrap_err();
+    assert!(matches!(built, WarpError::NonFinite { .. }), "{built:?}");
+    for u in [0.25, 0.75] {
+        let once = SphericalTriangle::sample_once_from_points(&p0, &p1, &p2, &o, &u, &0.5);
+        assert_eq!(once.unwrap_err(), built);
+        let light = SphericalTriangle::sample_light_once(&p0, &p1, &p2, &o, &u, &0.5);
+        assert_eq!(light.unwrap_err(), built);
+    }
+}

@@ -384,7 +384,7 @@ impl<T: Real> SphericalTriangle<T> {
         p2: Vec3<T>,
         observer: Vec3<T>,
     ) -> Result<Self, WarpError> {
-        let (d, tri) = Self::from_points_validated(&p0, &p1, &p2, &observer)?;
+        let (d, tri) = Self::from_points_validated::<true>(&p0, &p1, &p2, &observer)?;
         let core = Core::from_validated(tri)?;
         let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust, true)?;
         t.observer = observer;
@@ -414,9 +414,13 @@ impl<T: Real> SphericalTriangle<T> {
     }
 
     /// The directions `p_i − observer` rounded to `T`, and the triangle of
-    /// the wide directions validated.
+    /// the wide directions validated. `CHECKED`: a difference that
+    /// overflows is refused as such ([`WarpError::NonFinite`]); unchecked
+    /// (the one-shots' hot path, whose every error goes to the constructor
+    /// to be named), it fails the validation instead, its direction having
+    /// no unit vector.
     #[inline(always)]
-    fn from_points_validated(
+    fn from_points_validated<const CHECKED: bool>(
         p0: &Vec3<T>,
         p1: &Vec3<T>,
         p2: &Vec3<T>,
@@ -432,8 +436,9 @@ impl<T: Real> SphericalTriangle<T> {
         let d = [widen3(p0).sub(&o), widen3(p1).sub(&o), widen3(p2).sub(&o)];
         // A difference of two finite `T` values overflows only when the
         // wide type is `T` itself (its range not at least twice `T`'s).
-        if <T::Wide as Real>::max_value()
-            <= T::max_value().widen() * &<T::Wide as Real>::from_i64(2)
+        if CHECKED
+            && <T::Wide as Real>::max_value()
+                <= T::max_value().widen() * &<T::Wide as Real>::from_i64(2)
         {
             check_finite([
                 (&d[0], "vertex A"),

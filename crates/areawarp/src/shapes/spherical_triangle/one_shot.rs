@@ -66,13 +66,16 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
-        let (_, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
-        match Self::sample_direction(&tri, u, v) {
+        let hot = Self::from_points_validated::<false>(p0, p1, p2, observer);
+        match hot
+            .ok()
+            .and_then(|(_, tri)| Self::sample_direction(&tri, u, v))
+        {
             Some(sample) => Ok(sample),
             // The constructor decides (see `sample_core`), without the
             // plane's checks, as above.
             None => cold(|| {
-                let (input, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
+                let (input, tri) = Self::from_points_validated::<true>(p0, p1, p2, observer)?;
                 let core = Core::from_validated(tri)?;
                 let robust = SphericalTriangleVariant::Robust;
                 Ok(Self::from_core(&core, input, robust, false)?.map_with_pdf(u, v))
@@ -121,8 +124,11 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<LightSample<T>, WarpError> {
-        let (input, tri) = Self::from_points_validated(p0, p1, p2, observer)?;
-        let Some(hot) = Self::sample_core::<true>(&tri, u, v) else {
+        let hot = Self::from_points_validated::<false>(p0, p1, p2, observer);
+        let Some((input, hot)) = hot
+            .ok()
+            .and_then(|(input, tri)| Some((input, Self::sample_core::<true>(&tri, u, v)?)))
+        else {
             // The constructor decides (see `sample_core`).
             return cold(|| {
                 let t = Self::from_points(p0.clone(), p1.clone(), p2.clone(), observer.clone())?;
