@@ -282,3 +282,62 @@ fn one_shot_refuses_an_overflowing_difference_as_the_constructor_does() {
         assert_eq!(light.unwrap_err(), built);
     }
 }
+
+/// Points or an observer that are not finite (the one-shot paths do not
+/// test them on their hot path; the validation fails there and the
+/// constructor names the error): the one-shot paths refuse them with the
+/// constructor's error, in `f32` and `f64`.
+#[test]
+fn one_shot_refuses_non_finite_points_as_the_constructor_does() {
+    fn check<T: Real>() {
+        let p = |x: f64, y: f64, z: f64| Vec3::new(T::from_f64(x), T::from_f64(y), T::from_f64(z));
+        let (inf, nan) = (f64::INFINITY, f64::NAN);
+        let cases = [
+            [
+                p(nan, 0.0, 1.0),
+                p(1.0, 0.0, 1.0),
+                p(0.0, 1.0, 1.0),
+                p(0.0, 0.0, 0.0),
+            ],
+            [
+                p(0.0, 0.0, 1.0),
+                p(1.0, inf, 1.0),
+                p(0.0, 1.0, 1.0),
+                p(0.0, 0.0, 0.0),
+            ],
+            [
+                p(0.0, 0.0, 1.0),
+                p(1.0, 0.0, 1.0),
+                p(0.0, 1.0, -inf),
+                p(0.0, 0.0, 0.0),
+            ],
+            [
+                p(0.0, 0.0, 1.0),
+                p(1.0, 0.0, 1.0),
+                p(0.0, 1.0, 1.0),
+                p(inf, 0.0, 0.0),
+            ],
+            [
+                p(0.0, 0.0, 1.0),
+                p(1.0, 0.0, 1.0),
+                p(0.0, 1.0, 1.0),
+                p(0.0, nan, 0.0),
+            ],
+        ];
+        for [p0, p1, p2, o] in cases {
+            let built =
+                SphericalTriangle::from_points(p0.clone(), p1.clone(), p2.clone(), o.clone())
+                    .unwrap_err();
+            assert!(matches!(built, WarpError::NonFinite { .. }), "{built:?}");
+            for u in [T::from_ratio(1, 4), T::from_ratio(3, 4)] {
+                let half = T::from_ratio(1, 2);
+                let once = SphericalTriangle::sample_once_from_points(&p0, &p1, &p2, &o, &u, &half);
+                assert_eq!(once.unwrap_err(), built);
+                let light = SphericalTriangle::sample_light_once(&p0, &p1, &p2, &o, &u, &half);
+                assert_eq!(light.unwrap_err(), built);
+            }
+        }
+    }
+    check::<f32>();
+    check::<f64>();
+}

@@ -414,11 +414,12 @@ impl<T: Real> SphericalTriangle<T> {
     }
 
     /// The directions `p_i − observer` rounded to `T`, and the triangle of
-    /// the wide directions validated. `CHECKED`: a difference that
-    /// overflows is refused as such ([`WarpError::NonFinite`]); unchecked
-    /// (the one-shots' hot path, whose every error goes to the constructor
-    /// to be named), it fails the validation instead, its direction having
-    /// no unit vector.
+    /// the wide directions validated. `CHECKED`: a point that is not finite,
+    /// or a difference that overflows, is refused as such
+    /// ([`WarpError::NonFinite`]); unchecked (the one-shots' hot path, whose
+    /// every error goes to the constructor to be named), it fails the
+    /// validation instead (a direction with an infinite coordinate has no
+    /// unit vector; a NaN makes the determinant NaN).
     #[inline(always)]
     fn from_points_validated<const CHECKED: bool>(
         p0: &Vec3<T>,
@@ -426,12 +427,14 @@ impl<T: Real> SphericalTriangle<T> {
         p2: &Vec3<T>,
         observer: &Vec3<T>,
     ) -> Result<PointsValidated<T>, WarpError> {
-        check_finite([
-            (p0, "point 0"),
-            (p1, "point 1"),
-            (p2, "point 2"),
-            (observer, "observer"),
-        ])?;
+        if CHECKED {
+            check_finite([
+                (p0, "point 0"),
+                (p1, "point 1"),
+                (p2, "point 2"),
+                (observer, "observer"),
+            ])?;
+        }
         let o = widen3(observer);
         let d = [widen3(p0).sub(&o), widen3(p1).sub(&o), widen3(p2).sub(&o)];
         // A difference of two finite `T` values overflows only when the
