@@ -12,7 +12,9 @@
 //! agree bit for bit, and accept and reject exactly the same inputs (with
 //! the same error).
 
-use areawarp::shapes::{SphericalRectangle, SphericalTriangle};
+use areawarp::shapes::{
+    SphericalRectangle, SphericalRectangleVariant, SphericalTriangle, SphericalTriangleVariant,
+};
 use areawarp::warp::{LightSample, LightWarp};
 use areawarp::{Real, Vec3, Warp, WarpError};
 use proptest::test_runner::Config;
@@ -49,10 +51,7 @@ fn triangle<T: Real>(case: &TriangleCase, n: &mut Counts) {
     n.tried += 1;
     let [a, b, c] = [v3::<T>(&case.v[0]), v3(&case.v[1]), v3(&case.v[2])];
     let o = case.observer.map(|o| v3::<T>(&o));
-    let built = match &o {
-        None => SphericalTriangle::new(a.clone(), b.clone(), c.clone()),
-        Some(o) => SphericalTriangle::from_points(a.clone(), b.clone(), c.clone(), o.clone()),
-    };
+    let built = case.build::<T>(SphericalTriangleVariant::Robust);
     let omega = match &o {
         None => SphericalTriangle::solid_angle_of(&a, &b, &c),
         Some(o) => SphericalTriangle::solid_angle_of(&a.sub(o), &b.sub(o), &c.sub(o)),
@@ -162,7 +161,7 @@ fn light_agrees<T: Real, L: LightWarp<T>>(
 fn rectangle<T: Real>(case: &RectangleCase, n: &mut Counts) {
     n.tried += 1;
     let [s, ex, ey, o] = [&case.s, &case.ex, &case.ey, &case.o].map(|x| v3::<T>(x));
-    let built = SphericalRectangle::new(s.clone(), ex.clone(), ey.clone(), o.clone());
+    let built = case.build::<T>(SphericalRectangleVariant::Robust);
     let omega = SphericalRectangle::solid_angle_of(&s, &ex, &ey, &o);
     match &built {
         Ok(r) => {
@@ -273,12 +272,21 @@ fn one_shot_refuses_an_overflowing_difference_as_the_constructor_does() {
         Vec3::new(-big, 1.0, 0.0),
         Vec3::new(-big, 0.0, 1.0),
     );
-    let built = SphericalTriangle::from_points(p0, p1, p2, o).unwrap_err();
+    refused_as_non_finite([p0, p1, p2, o]);
+}
+
+/// `from_points` refuses the points `p0`, `p1`, `p2` seen from `o` as not
+/// finite, and both one-shot paths of points refuse them with the same
+/// error, for `u` in either half.
+fn refused_as_non_finite<T: Real>([p0, p1, p2, o]: [Vec3<T>; 4]) {
+    let built =
+        SphericalTriangle::from_points(p0.clone(), p1.clone(), p2.clone(), o.clone()).unwrap_err();
     assert!(matches!(built, WarpError::NonFinite { .. }), "{built:?}");
-    for u in [0.25, 0.75] {
-        let once = SphericalTriangle::sample_once_from_points(&p0, &p1, &p2, &o, &u, &0.5);
+    let half = T::from_ratio(1, 2);
+    for u in [T::from_ratio(1, 4), T::from_ratio(3, 4)] {
+        let once = SphericalTriangle::sample_once_from_points(&p0, &p1, &p2, &o, &u, &half);
         assert_eq!(once.unwrap_err(), built);
-        let light = SphericalTriangle::sample_light_once(&p0, &p1, &p2, &o, &u, &0.5);
+        let light = SphericalTriangle::sample_light_once(&p0, &p1, &p2, &o, &u, &half);
         assert_eq!(light.unwrap_err(), built);
     }
 }
@@ -324,18 +332,8 @@ fn one_shot_refuses_non_finite_points_as_the_constructor_does() {
                 p(0.0, nan, 0.0),
             ],
         ];
-        for [p0, p1, p2, o] in cases {
-            let built =
-                SphericalTriangle::from_points(p0.clone(), p1.clone(), p2.clone(), o.clone())
-                    .unwrap_err();
-            assert!(matches!(built, WarpError::NonFinite { .. }), "{built:?}");
-            for u in [T::from_ratio(1, 4), T::from_ratio(3, 4)] {
-                let half = T::from_ratio(1, 2);
-                let once = SphericalTriangle::sample_once_from_points(&p0, &p1, &p2, &o, &u, &half);
-                assert_eq!(once.unwrap_err(), built);
-                let light = SphericalTriangle::sample_light_once(&p0, &p1, &p2, &o, &u, &half);
-                assert_eq!(light.unwrap_err(), built);
-            }
+        for case in cases {
+            refused_as_non_finite(case);
         }
     }
     check::<f32>();
