@@ -384,10 +384,23 @@ impl<T: Real> SphericalTriangle<T> {
         p2: Vec3<T>,
         observer: Vec3<T>,
     ) -> Result<Self, WarpError> {
-        let (d, tri) = Self::from_points_validated::<true>(&p0, &p1, &p2, &observer)?;
+        Self::from_points_with(&p0, &p1, &p2, &observer, true)
+    }
+
+    /// [`SphericalTriangle::from_points`]; `light`: the plane of the points
+    /// must be one `T` holds (else, as for `new`, the plane is optional:
+    /// what the one-shot direction, which returns no point, is held to).
+    fn from_points_with(
+        p0: &Vec3<T>,
+        p1: &Vec3<T>,
+        p2: &Vec3<T>,
+        observer: &Vec3<T>,
+        light: bool,
+    ) -> Result<Self, WarpError> {
+        let (d, tri) = Self::from_points_validated::<true>(p0, p1, p2, observer)?;
         let core = Core::from_validated(tri)?;
-        let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust, true)?;
-        t.observer = observer;
+        let mut t = Self::from_core(&core, d, SphericalTriangleVariant::Robust, light)?;
+        t.observer = observer.clone();
         Ok(t)
     }
 

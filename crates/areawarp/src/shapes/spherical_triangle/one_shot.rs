@@ -4,8 +4,8 @@
 //! half and, for a light sample, the plane), bit for bit what the built
 //! shape returns.
 
-use super::build::{self, Core, OneEndBounds, Scalars, Validated};
-use super::{SphericalTriangle, SphericalTriangleVariant, robust};
+use super::build::{self, OneEndBounds, Scalars, Validated};
+use super::{SphericalTriangle, robust};
 use crate::error::WarpError;
 use crate::real::Real;
 use crate::shapes::light_plane::LightPlane;
@@ -75,10 +75,8 @@ impl<T: Real> SphericalTriangle<T> {
             // The constructor decides (see `sample_core`), without the
             // plane's checks, as above.
             None => cold(|| {
-                let (input, tri) = Self::from_points_validated::<true>(p0, p1, p2, observer)?;
-                let core = Core::from_validated(tri)?;
-                let robust = SphericalTriangleVariant::Robust;
-                Ok(Self::from_core(&core, input, robust, false)?.map_with_pdf(u, v))
+                let t = Self::from_points_with(p0, p1, p2, observer, false)?;
+                Ok(t.map_with_pdf(u, v))
             }),
         }
     }
