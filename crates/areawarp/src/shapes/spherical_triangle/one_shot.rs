@@ -122,18 +122,16 @@ impl<T: Real> SphericalTriangle<T> {
         u: &T,
         v: &T,
     ) -> Result<LightSample<T>, WarpError> {
-        let hot = Self::from_points_validated::<false>(p0, p1, p2, observer);
-        let Some((input, hot)) = hot
+        let hot = Self::from_points_validated::<false>(p0, p1, p2, observer)
             .ok()
-            .and_then(|(input, tri)| Some((input, Self::sample_core::<true>(&tri, u, v)?)))
-        else {
+            .and_then(|(input, tri)| Some((input, Self::sample_core::<true>(&tri, u, v)?)));
+        let Some((input, (d, pdf))) = hot else {
             // The constructor decides (see `sample_core`).
             return cold(|| {
                 let t = Self::from_points(p0.clone(), p1.clone(), p2.clone(), observer.clone())?;
                 Ok(t.sample_light([u.clone(), v.clone()]))
             });
         };
-        let (d, pdf) = hot;
         // The plane `from_points` builds (after every other check there,
         // so the same error comes first), of the same rounded directions.
         let plane = LightPlane::new(&input, &Vec3::zero(), &pdf, &pdf)?;
