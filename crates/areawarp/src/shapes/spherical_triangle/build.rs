@@ -272,19 +272,21 @@ impl<W: Real> Validated<W> {
         tangent(x, (&minus, &self.q_ca), (&self.s_ca, &self.p_ca))
     }
 
-    /// The anchor at V = A (`from_a`) or C alone, with its `d =
-    /// |det|/sin b`: the tangent at V and nothing of the other end (what one
-    /// sample needs). The same values as [`Core::from_validated`] and
-    /// [`Core::anchor`] compute for that end. The range of `d` is not
-    /// tested here; the flag is `true` when the triangle is inside `bounds`
-    /// ([`OneEndBounds`]), where that end's tests decide as the
-    /// constructor's tests of both ends do.
+    /// The anchor at V = A (`from_a`) or C alone: the tangent at V and
+    /// nothing of the other end (what one sample needs). The same values as
+    /// [`Core::from_validated`] and [`Core::anchor`] compute for that end.
+    /// The flag is `true` when the triangle is inside `bounds`
+    /// ([`OneEndBounds`]): there `d = |det|/sin b` and every constant of
+    /// the anchor are inside `T`'s range (the constructor's tests of them
+    /// pass, and the sample need not repeat them:
+    /// [`Anchor::narrow_in_bounds`]); outside, only the constructor's
+    /// tests of both ends decide.
     #[inline(always)]
     pub fn anchor_alone(
         &self,
         from_a: bool,
         bounds: &OneEndBounds<W>,
-    ) -> Result<(Anchor<W>, W, bool), WarpError> {
+    ) -> Result<(Anchor<W>, bool), WarpError> {
         if from_a {
             self.anchor_alone_at::<true>(bounds)
         } else {
@@ -299,17 +301,15 @@ impl<W: Real> Validated<W> {
     fn anchor_alone_at<const FROM_A: bool>(
         &self,
         bounds: &OneEndBounds<W>,
-    ) -> Result<(Anchor<W>, W, bool), WarpError> {
+    ) -> Result<(Anchor<W>, bool), WarpError> {
         let from_a = FROM_A;
-        let (along, sin_b, inv_sin_b) = self.tangent_at(from_a).ok_or(reject::ANTIPODAL)?;
-        let abs_det = self.det.abs();
-        let d = abs_det.clone() * &inv_sin_b;
-        let inv_d = sin_b / &abs_det;
+        let (along, sin_b, _) = self.tangent_at(from_a).ok_or(reject::ANTIPODAL)?;
+        let inv_d = sin_b / &self.det.abs();
         // By comparisons: a NaN fails them.
         let inside = inv_d <= bounds.max_inv_d
             && self.at_b[0].0 >= bounds.min_chord2
             && self.at_b[1].0 >= bounds.min_chord2;
-        Ok((self.anchor_with(from_a, &along, &inv_d)?, d, inside))
+        Ok((self.anchor_with(from_a, &along, &inv_d)?, inside))
     }
 
     /// The anchor at V = A (`from_a`) or C given the tangent `along` there
@@ -459,7 +459,25 @@ impl<W: Real> Anchor<W> {
     /// The anchor rounded to `T`; `None` if a constant leaves `T`'s range.
     #[inline(always)]
     pub fn narrow<T: Real<Wide = W>>(&self) -> Option<Anchor<T>> {
-        let out = Anchor {
+        let out = self.narrow_in_bounds::<T>();
+        // V − B (finite) rounded to zero ([`Vec3::is_zero`]: comparisons).
+        let finite = out.k1_d.is_finite_above(&T::zero())
+            && out.k_d.is_finite()
+            && out.inv_s2.is_finite()
+            && !out.v_minus_b.is_zero();
+        finite.then_some(out)
+    }
+
+    /// The anchor rounded to `T` without [`Anchor::narrow`]'s range tests,
+    /// for an anchor of a triangle inside [`OneEndBounds`], where they
+    /// pass: `k1_d = (|V + B|²/2)/d` is at most `2/d ≤ max/8` and at least
+    /// half the antipodal limit (`1/d ≥ 1`), `|k_d| ≤ 2/d`,
+    /// `inv_s2 = 4/|V − B|² ≤ max/16`, and `|V − B|² ≥ 64/max` keeps a
+    /// coordinate of `V − B` above `2^-63` in `f32` (far above its smallest
+    /// subnormal).
+    #[inline(always)]
+    pub fn narrow_in_bounds<T: Real<Wide = W>>(&self) -> Anchor<T> {
+        Anchor {
             vertex: narrow3::<T>(&self.vertex),
             along: narrow3::<T>(&self.along),
             k1_d: T::narrow(&self.k1_d),
@@ -469,13 +487,7 @@ impl<W: Real> Anchor<W> {
             v_plus_b: narrow3::<T>(&self.v_plus_b),
             t_b: narrow3::<T>(&self.t_b),
             n_b: narrow3::<T>(&self.n_b),
-        };
-        // V − B (finite) rounded to zero ([`Vec3::is_zero`]: comparisons).
-        let finite = out.k1_d.is_finite_above(&T::zero())
-            && out.k_d.is_finite()
-            && out.inv_s2.is_finite()
-            && !out.v_minus_b.is_zero();
-        finite.then_some(out)
+        }
     }
 }
 

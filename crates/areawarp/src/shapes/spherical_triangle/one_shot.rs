@@ -4,7 +4,7 @@
 //! half and, for a light sample, the plane), bit for bit what the built
 //! shape returns.
 
-use super::build::{self, OneEndBounds, Scalars, Validated};
+use super::build::{self, OneEndBounds, Validated};
 use super::{SphericalTriangle, robust};
 use crate::error::WarpError;
 use crate::real::Real;
@@ -174,21 +174,33 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Option<(Vec3<T>, T)> {
         let from_a = robust::uses_anchor_a(&clamp_unit(u));
-        let (anchor, d, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
-        if !(inside && d.is_finite_above(&<T::Wide as Real>::zero())) {
+        let (anchor, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
+        if !inside {
             return None;
         }
-        let scalars = Scalars::<T>::of(tri, &d).ok()?;
-        let anchor = anchor.narrow::<T>()?;
+        // Inside the bounds, `d` and the anchor's constants are in `T`'s
+        // range: of the constructor's range tests (`Scalars::of`,
+        // `Anchor::narrow`) only Ω's are needed. The anchor's, redundant
+        // here, are kept where the map is inlined: without them (or with
+        // them after `b`'s rounding) the `f32` one-shot executes more
+        // instructions (813 or 825 against 791 per sample) and is slower
+        // (one-shot / per-sample 2.89–2.96 against 2.82;
+        // `docs/spherical-triangle-one-shot.md`).
+        let (_, inv_omega) = build::omega_in::<T>(&tri.omega).ok()?;
+        let anchor = if INLINE {
+            anchor.narrow::<T>()?
+        } else {
+            anchor.narrow_in_bounds::<T>()
+        };
         let b = narrow3::<T>(&tri.b);
         let b_norm2 = build::norm2(&b);
-        let half_omega = &scalars.half_omega;
+        let half_omega = &T::narrow(&tri.half_omega);
         let d = if INLINE {
             robust::map_from_inlined(&anchor, &b, &b_norm2, half_omega, u, v)
         } else {
             robust::map_from(&anchor, &b, &b_norm2, half_omega, u, v)
         };
-        Some((d, scalars.inv_omega))
+        Some((d, inv_omega))
     }
 
     /// The solid angle Ω of the triangle with vertex directions `a`, `b`,
