@@ -74,8 +74,10 @@ pub(super) fn map_from_inlined<T: Real>(
     // g = 2n/(n² + m²) = sin b_s / m.
     let g = (n.clone() + &n) / &(n.square() + &m.square());
     let nd2 = nb.square() + &cb.square();
-    // Independent of g: the two divisions overlap.
-    let inv_nd2 = one.clone() / &nd2;
+    // Independent of g: the two divisions overlap. `4/|(nb, cb)|²`: the
+    // factor 2 of the roots below taken inside them (√(4x) = 2√x exactly),
+    // off the sample's dependent chain.
+    let inv4_nd2 = T::from_i64(4) / &nd2;
     // C_s − V = sin b_s·[W|V] − (1 − cos b_s)·V; D = C_s − B.
     let delta = anchor
         .along
@@ -84,6 +86,10 @@ pub(super) fn map_from_inlined<T: Real>(
     let d_vec = delta.add(&anchor.v_minus_b);
     // sin²(a_s/2) of the arc B C_s.
     let s2 = norm2(&d_vec) / T::from_i64(4);
+    // W·|(nb, cb)|, the unit tangent at B towards C_s scaled (off the
+    // dependent chain: the sample's offsets along it wait only for their
+    // coefficient).
+    let towards = anchor.t_b.scale(&cb).add(&anchor.n_b.scale(&nb));
     // Step 2: θ = ∠BP with sin²(θ/2) = v sin²(a_s/2),
     // cos²(θ/2) = cos²(a_s/2) + (1 − v) sin²(a_s/2).
     let p = if v <= half {
@@ -91,12 +97,8 @@ pub(super) fn map_from_inlined<T: Real>(
         // here cos²(θ/2) = 1 − sin²(θ/2) ≥ 1/2 (no cancellation, and
         // cos²(a_s/2) is not needed), and sin θ/|(nb, cb)| is one root.
         let sp2 = v * &s2;
-        let f = (sp2.clone() * &(one.clone() - &sp2) * &inv_nd2).sqrt() * &two;
-        let offset = anchor
-            .t_b
-            .scale(&(f.clone() * &cb))
-            .add(&anchor.n_b.scale(&(f * &nb)))
-            .sub(&b.scale(&(sp2 * &two)));
+        let f = (sp2.clone() * &(one.clone() - &sp2) * &inv4_nd2).sqrt();
+        let offset = towards.scale(&f).sub(&b.scale(&(sp2 * &two)));
         b.add(&offset)
     } else {
         // From the other end: with C_s = cos a_s·B + sin a_s·W,
@@ -108,16 +110,13 @@ pub(super) fn map_from_inlined<T: Real>(
         // cos²(a_s/2) = |C_s + B|²/4 keeps its accuracy when C_s ≈ −B.
         let c2 = norm2(&delta.add(&anchor.v_plus_b)) / T::from_i64(4);
         let cp2 = c2.clone() + &((one.clone() - &v) * &s2);
-        // sin(θ/2) cos(θ/2) and sin(a_s/2) cos(a_s/2), over |(nb, cb)|.
-        let half_sin_theta = (v.clone() * &s2 * &cp2 * &inv_nd2).sqrt();
-        let half_sin_a = (s2.clone() * &c2 * &inv_nd2).sqrt();
-        let w_coef = (half_sin_theta - &half_sin_a) * &two;
+        // sin θ = 2 sin(θ/2) cos(θ/2) and sin a_s, over |(nb, cb)|.
+        let sin_theta = (v.clone() * &s2 * &cp2 * &inv4_nd2).sqrt();
+        let sin_a = (s2.clone() * &c2 * &inv4_nd2).sqrt();
+        let w_coef = sin_theta - &sin_a;
         let b_coef = s2 * &(one - &v) * &two;
         let c_s = anchor.vertex.add(&delta);
-        let offset = b
-            .scale(&b_coef)
-            .add(&anchor.t_b.scale(&(w_coef.clone() * &cb)))
-            .add(&anchor.n_b.scale(&(w_coef * &nb)));
+        let offset = b.scale(&b_coef).add(&towards.scale(&w_coef));
         c_s.add(&offset)
     };
     // |P| = 1 + O(u): one Newton step towards |P| = |B| (|B| = 1 up to
