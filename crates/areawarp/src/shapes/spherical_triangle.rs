@@ -536,7 +536,7 @@ impl<T: Real> SphericalTriangle<T> {
     /// `[0, 1]`; a NaN `u` or `v` gives a NaN point.
     pub fn map_robust(&self, u: &T, v: &T) -> Vec3<T> {
         let anchor = &self.anchors[usize::from(!robust::uses_anchor_a(&clamp_unit(u)))];
-        robust::map_from_inlined(anchor, &self.b, &self.b_norm2, &self.half_omega, u, v)
+        robust::map_from(anchor, &self.b, &self.b_norm2, &self.half_omega, u, v)
     }
 
     /// ψ(u, v) by the [`Literal`](SphericalTriangleVariant::Literal)

@@ -43,7 +43,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let tri = build::validated_of(a, b, c)?;
-        match Self::sample_direction(&tri, u, v) {
+        match Self::sample_core(&tri, u, v) {
             Some(sample) => Ok(sample),
             // The constructor decides (see `sample_core`).
             None => cold(|| Ok(Self::new(a.clone(), b.clone(), c.clone())?.map_with_pdf(u, v))),
@@ -67,10 +67,7 @@ impl<T: Real> SphericalTriangle<T> {
         v: &T,
     ) -> Result<(Vec3<T>, T), WarpError> {
         let hot = Self::from_points_validated::<false>(p0, p1, p2, observer);
-        match hot
-            .ok()
-            .and_then(|(_, tri)| Self::sample_direction(&tri, u, v))
-        {
+        match hot.ok().and_then(|(_, tri)| Self::sample_core(&tri, u, v)) {
             Some(sample) => Ok(sample),
             // The constructor decides (see `sample_core`), without the
             // plane's checks, as above.
@@ -124,7 +121,7 @@ impl<T: Real> SphericalTriangle<T> {
     ) -> Result<LightSample<T>, WarpError> {
         let hot = Self::from_points_validated::<false>(p0, p1, p2, observer)
             .ok()
-            .and_then(|(input, tri)| Some((input, Self::sample_core::<true>(&tri, u, v)?)));
+            .and_then(|(input, tri)| Some((input, Self::sample_core(&tri, u, v)?)));
         let Some((input, (d, pdf))) = hot else {
             // The constructor decides (see `sample_core`).
             return cold(|| {
@@ -138,27 +135,10 @@ impl<T: Real> SphericalTriangle<T> {
         Ok(plane.sample(d, pdf, observer))
     }
 
-    /// [`SphericalTriangle::sample_core`] for the direction-only one-shots:
-    /// the map inlined for `f32`, called out of line for wider types. Each
-    /// is the faster in `benches/one_shot_min` (2026-11-29, three rounds):
-    /// inlined, the `f32` one-shot / per-sample ratio went from 2.95 to
-    /// 2.83 and the `f64` one from 2.55 to 2.96
-    /// (`docs/spherical-triangle-one-shot.md`; why `f64` loses was not
-    /// examined).
-    #[inline(always)]
-    fn sample_direction(tri: &Validated<T::Wide>, u: &T, v: &T) -> Option<(Vec3<T>, T)> {
-        if T::precision() <= f32::MANTISSA_DIGITS {
-            Self::sample_core::<true>(tri, u, v)
-        } else {
-            Self::sample_core::<false>(tri, u, v)
-        }
-    }
-
     /// The sample of the validated triangle `tri` at `(u, v)` and its
-    /// density; the map inlined when `INLINE` (see
-    /// [`robust::map_from_inlined`]). Only the anchor of `u`'s half is
-    /// formed ([`Validated::anchor_alone`]: one tangent on the arc AC, where
-    /// the built shape's constructor forms both ends').
+    /// density. Only the anchor of `u`'s half is formed
+    /// ([`Validated::anchor_alone`]: one tangent on the arc AC, where the
+    /// built shape's constructor forms both ends').
     ///
     /// `None` where a range check fails or the triangle is at the bottom
     /// of `T`'s range ([`OneEndBounds`]): there only the constructor's
@@ -168,11 +148,7 @@ impl<T: Real> SphericalTriangle<T> {
     /// bounds, the checks of one end pass exactly when the constructor's
     /// pass, with the same values.
     #[inline(always)]
-    fn sample_core<const INLINE: bool>(
-        tri: &Validated<T::Wide>,
-        u: &T,
-        v: &T,
-    ) -> Option<(Vec3<T>, T)> {
+    fn sample_core(tri: &Validated<T::Wide>, u: &T, v: &T) -> Option<(Vec3<T>, T)> {
         let from_a = robust::uses_anchor_a(&clamp_unit(u));
         let (anchor, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
         if !inside {
@@ -181,13 +157,14 @@ impl<T: Real> SphericalTriangle<T> {
         // Inside the bounds, `d` and the anchor's constants are in `T`'s
         // range: of the constructor's range tests (`Scalars::of`,
         // `Anchor::narrow`) only Ω's are needed. The anchor's, redundant
-        // here, are kept where the map is inlined: without them (or with
-        // them after `b`'s rounding) the `f32` one-shot executes more
-        // instructions (813 or 825 against 791 per sample) and is slower
-        // (one-shot / per-sample 2.89–2.96 against 2.82;
-        // `docs/spherical-triangle-one-shot.md`).
+        // here, are kept for `f32`: without them (or with them after `b`'s
+        // rounding) its one-shot executes more instructions (813 or 825
+        // against 791 per sample) and is slower (one-shot / per-sample
+        // 2.89–2.96 against 2.82); in `f64`, 807 against 833 instructions
+        // and 2.400–2.409 against 2.432–2.459
+        // (`docs/spherical-triangle-one-shot.md`).
         let (_, inv_omega) = build::omega_in::<T>(&tri.omega).ok()?;
-        let anchor = if INLINE {
+        let anchor = if T::precision() <= f32::MANTISSA_DIGITS {
             anchor.narrow::<T>()?
         } else {
             anchor.narrow_in_bounds::<T>()
@@ -195,11 +172,7 @@ impl<T: Real> SphericalTriangle<T> {
         let b = narrow3::<T>(&tri.b);
         let b_norm2 = build::norm2(&b);
         let half_omega = &T::narrow(&tri.half_omega);
-        let d = if INLINE {
-            robust::map_from_inlined(&anchor, &b, &b_norm2, half_omega, u, v)
-        } else {
-            robust::map_from(&anchor, &b, &b_norm2, half_omega, u, v)
-        };
+        let d = robust::map_from(&anchor, &b, &b_norm2, half_omega, u, v);
         Some((d, inv_omega))
     }
 

@@ -18,32 +18,19 @@ pub(super) fn uses_anchor_a<T: Real>(u: &T) -> bool {
 
 /// ψ(u, v) from the anchor of `u` (see the type's docs), `b` the unit
 /// vertex B, `b_norm2` = |B|² as stored, `half_omega` = Ω/2. `u`, `v` are
-/// clamped to `[0, 1]`; a NaN `u` or `v` gives a NaN point. Never inlined
-/// (see [`map_from_inlined`]).
-#[inline(never)]
-pub(super) fn map_from<T: Real>(
-    anchor: &Anchor<T>,
-    b: &Vec3<T>,
-    b_norm2: &T,
-    half_omega: &T,
-    u: &T,
-    v: &T,
-) -> Vec3<T> {
-    map_from_inlined(anchor, b, b_norm2, half_omega, u, v)
-}
-
-/// [`map_from`] inlined into its caller: for the prepared sample
-/// ([`SphericalTriangle::map_robust`](super::SphericalTriangle::map_robust))
-/// and the one-shot light sample, where it is measured faster (per sample
-/// 37.9 → 36.5 ns in `f32`, 46.7 → 45.5 ns in `f64`; the light one-shot,
-/// whose plane then overlaps the map's dependent chain, 152 → 137 ns in
-/// `f32`), and for the one-shot direction in `f32` (one-shot / per-sample
-/// 2.95 → 2.82); the one-shot direction in `f64` calls [`map_from`] out of
-/// line, which is faster there (`f64` 119 ns against 138 ns inlined; ratio
-/// 2.55 against 2.96). Same code, same bits. Measurements:
-/// `docs/spherical-triangle.md` §5b, `docs/spherical-triangle-one-shot.md`.
+/// clamped to `[0, 1]`; a NaN `u` or `v` gives a NaN point.
+///
+/// Inlined into every caller: the prepared sample
+/// ([`SphericalTriangle::map_robust`](super::SphericalTriangle::map_robust)),
+/// where it is measured faster (per sample 37.9 → 36.5 ns in `f32`,
+/// 46.7 → 45.5 ns in `f64`), and the one-shots. The `f64` one-shot
+/// direction had called it out of line, faster with the map of that time
+/// (ratio 2.55 against 2.96 inlined); since the map's offset along the
+/// tangent at B is formed once, inlined is faster there too (2.400–2.409
+/// against 2.493–2.497). Measurements: `docs/spherical-triangle.md` §5b,
+/// `docs/spherical-triangle-one-shot.md`.
 #[inline(always)]
-pub(super) fn map_from_inlined<T: Real>(
+pub(super) fn map_from<T: Real>(
     anchor: &Anchor<T>,
     b: &Vec3<T>,
     b_norm2: &T,
