@@ -58,21 +58,25 @@ pub(super) fn map_from<T: Real>(
     let m = ch.clone() - &(anchor.k_d.clone() * &sh);
     let nb = sh.clone() * &m * &anchor.inv_s2;
     let cb = one.clone() - &(sh.clone() * &(anchor.k_d.clone() * &ch + &sh) * &anchor.inv_s2);
-    // g = 2n/(n² + m²) = sin b_s / m.
-    let g = (n.clone() + &n) / &(n.square() + &m.square());
-    let nd2 = nb.square() + &cb.square();
-    // Independent of g: the two divisions overlap. `4/|(nb, cb)|²`: the
-    // factor 2 of the roots below taken inside them (√(4x) = 2√x exactly),
-    // off the sample's dependent chain.
-    let inv4_nd2 = T::from_i64(4) / &nd2;
-    // C_s − V = sin b_s·[W|V] − (1 − cos b_s)·V; D = C_s − B.
-    let delta = anchor
+    // sin b_s = 2nm/(n² + m²), 1 − cos b_s = 2n²/(n² + m²):
+    // C_s − V = sin b_s·[W|V] − (1 − cos b_s)·V, its numerator formed
+    // while the division runs (the chain waits for one product after it).
+    let two_n = n.clone() + &n;
+    let inv_nm2 = one.clone() / &(n.square() + &m.square());
+    let numerator = anchor
         .along
-        .scale(&(g.clone() * &m))
-        .sub(&anchor.vertex.scale(&(g * &n)));
+        .scale(&(two_n.clone() * &m))
+        .sub(&anchor.vertex.scale(&(two_n * &n)));
+    let nd2 = nb.square() + &cb.square();
+    // Independent of the first: the two divisions overlap. `4/|(nb, cb)|²`:
+    // the factor 2 of the roots below taken inside them (√(4x) = 2√x
+    // exactly), off the sample's dependent chain.
+    let inv4_nd2 = T::from_i64(4) / &nd2;
+    let delta = numerator.scale(&inv_nm2);
+    // D = C_s − B.
     let d_vec = delta.add(&anchor.v_minus_b);
-    // sin²(a_s/2) of the arc B C_s.
-    let s2 = norm2(&d_vec) / T::from_i64(4);
+    // 4 sin²(a_s/2) of the arc B C_s.
+    let q = norm2(&d_vec);
     // W·|(nb, cb)|, the unit tangent at B towards C_s scaled (off the
     // dependent chain: the sample's offsets along it wait only for their
     // coefficient).
@@ -83,10 +87,15 @@ pub(super) fn map_from<T: Real>(
         // P = B + sin θ·W − (1 − cos θ)·B with W = (cb·t_b + nb·n_b)/|(nb, cb)|;
         // here cos²(θ/2) = 1 − sin²(θ/2) ≥ 1/2 (no cancellation, and
         // cos²(a_s/2) is not needed), and sin θ/|(nb, cb)| is one root.
-        let sp2 = v * &s2;
-        let f = (sp2.clone() * &(one.clone() - &sp2) * &inv4_nd2).sqrt();
-        let offset = towards.scale(&f).sub(&b.scale(&(sp2 * &two)));
-        b.add(&offset)
+        // sin²(θ/2) = (v/4)·q, with v/4 (exact for a normal v), 1 −
+        // sin²(θ/2) and (v/4)·4/|(nb, cb)|² formed off the chain: after q,
+        // one product each before the root's argument, then the root.
+        let v4 = v.clone() / T::from_i64(4);
+        let cos2 = one.clone() - &(q.clone() * &v4);
+        let f = (q.clone() * &(v4.clone() * &inv4_nd2) * &cos2).sqrt();
+        // B − (1 − cos θ)·B = (1 − 2 sin²(θ/2))·B, beside the root.
+        let b_part = b.scale(&(one.clone() - &(q * &(v4 * &two))));
+        b_part.add(&towards.scale(&f))
     } else {
         // From the other end: with C_s = cos a_s·B + sin a_s·W,
         // P = C_s + (cos θ − cos a_s)·B + (sin θ − sin a_s)·W, where
@@ -95,6 +104,7 @@ pub(super) fn map_from<T: Real>(
         // both vanish at v = 1 (P = C_s, so (0, 1) ↦ A and (1, 1) ↦ C),
         // and are small, with small absolute errors, near it.
         // cos²(a_s/2) = |C_s + B|²/4 keeps its accuracy when C_s ≈ −B.
+        let s2 = q / T::from_i64(4);
         let c2 = norm2(&delta.add(&anchor.v_plus_b)) / T::from_i64(4);
         let cp2 = c2.clone() + &((one.clone() - &v) * &s2);
         // sin θ = 2 sin(θ/2) cos(θ/2) and sin a_s, over |(nb, cb)|.
