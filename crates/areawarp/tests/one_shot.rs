@@ -291,10 +291,11 @@ fn refused_as_non_finite<T: Real>([p0, p1, p2, o]: [Vec3<T>; 4]) {
     }
 }
 
-/// Points or an observer that are not finite (the one-shot paths do not
-/// test them on their hot path; the validation fails there and the
-/// constructor names the error): the one-shot paths refuse them with the
-/// constructor's error, in `f32` and `f64`.
+/// Points or an observer that are not finite (the one-shot paths of points
+/// do not test them on their hot path; the validation fails there and the
+/// constructor names the error), and vertex directions that are not: the
+/// one-shot paths refuse them with the constructor's error, in `f32` and
+/// `f64`.
 #[test]
 fn one_shot_refuses_non_finite_points_as_the_constructor_does() {
     fn check<T: Real>() {
@@ -333,9 +334,31 @@ fn one_shot_refuses_non_finite_points_as_the_constructor_does() {
             ],
         ];
         for case in cases {
-            refused_as_non_finite(case);
+            refused_as_non_finite(case.clone());
+            // The same vertices as directions (observer at the origin).
+            let [a, b, c, o] = case;
+            if o.is_finite() {
+                directions_refused_as_non_finite([a, b, c]);
+            }
         }
     }
     check::<f32>();
     check::<f64>();
+}
+
+/// `new` refuses the vertex directions `a`, `b`, `c` as not finite, and
+/// the one-shot sample (for `u` in either half) and the one-shot solid
+/// angle refuse them with the same error.
+fn directions_refused_as_non_finite<T: Real>([a, b, c]: [Vec3<T>; 3]) {
+    let built = SphericalTriangle::new(a.clone(), b.clone(), c.clone()).unwrap_err();
+    assert!(matches!(built, WarpError::NonFinite { .. }), "{built:?}");
+    let half = T::from_ratio(1, 2);
+    for u in [T::from_ratio(1, 4), T::from_ratio(3, 4)] {
+        let once = SphericalTriangle::sample_once(&a, &b, &c, &u, &half);
+        assert_eq!(once.unwrap_err(), built);
+    }
+    assert_eq!(
+        SphericalTriangle::solid_angle_of(&a, &b, &c).unwrap_err(),
+        built
+    );
 }
