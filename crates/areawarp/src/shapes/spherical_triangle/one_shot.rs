@@ -157,12 +157,11 @@ impl<T: Real> SphericalTriangle<T> {
         // Inside the bounds, `d` and the anchor's constants are in `T`'s
         // range: of the constructor's range tests (`Scalars::of`,
         // `Anchor::narrow`) only Ω's are needed. The anchor's, redundant
-        // here, are kept for `f32`: without them (or with them after `b`'s
-        // rounding) its one-shot executes more instructions (813 or 825
-        // against 791 per sample) and is slower (one-shot / per-sample
-        // 2.89–2.96 against 2.82); in `f64`, 807 against 833 instructions
-        // and 2.400–2.409 against 2.432–2.459
-        // (`docs/spherical-triangle-one-shot.md`).
+        // here, are kept for `f32`, whose one-shot is measured faster with
+        // them (101–102 against 105 ns with today's map), and dropped for
+        // wider types (`f64` one-shot / per-sample 2.400–2.409 against
+        // 2.432–2.459 with the map before its last change; rounds in
+        // `docs/spherical-triangle-one-shot.md`).
         let (_, inv_omega) = build::omega_in::<T>(&tri.omega).ok()?;
         let anchor = if T::precision() <= f32::MANTISSA_DIGITS {
             anchor.narrow::<T>()?
