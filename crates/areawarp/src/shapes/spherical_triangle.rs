@@ -318,7 +318,7 @@ impl<T: Real> SphericalTriangle<T> {
             inv_omega,
             half_omega,
             d,
-        } = Scalars::of(&core.v, &core.d)?;
+        } = Scalars::of(core)?;
         let anchors = [
             core.anchor(true)?.narrow::<T>().ok_or_else(out_of_range)?,
             core.anchor(false)?.narrow::<T>().ok_or_else(out_of_range)?,

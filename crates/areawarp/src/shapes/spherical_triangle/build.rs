@@ -302,14 +302,21 @@ impl<W: Real> Validated<W> {
         &self,
         bounds: &OneEndBounds<W>,
     ) -> Result<(Anchor<W>, bool), WarpError> {
-        let from_a = FROM_A;
-        let (along, sin_b, _) = self.tangent_at(from_a).ok_or(reject::ANTIPODAL)?;
-        let inv_d = sin_b / &self.det.abs();
+        let (along, inv_d) = self.own_end(FROM_A)?;
         // By comparisons: a NaN fails them.
         let inside = inv_d <= bounds.max_inv_d
             && self.at_b[0].0 >= bounds.min_chord2
             && self.at_b[1].0 >= bounds.min_chord2;
-        Ok((self.anchor_with(from_a, &along, &inv_d)?, inside))
+        Ok((self.anchor_with(FROM_A, &along, &inv_d)?, inside))
+    }
+
+    /// V's own tangent on the arc AC (V = A for `from_a`, else C) and
+    /// `1/d = sin b/|det|` with that tangent's `sin b`: what the one-shot's
+    /// anchor, and the built shape's at C, are made from.
+    #[inline(always)]
+    fn own_end(&self, from_a: bool) -> Result<(Vec3<W>, W), WarpError> {
+        let (along, sin_b, _) = self.tangent_at(from_a).ok_or(reject::ANTIPODAL)?;
+        Ok((along, sin_b / &self.det.abs()))
     }
 
     /// The anchor at V = A (`from_a`) or C given the tangent `along` there
@@ -372,8 +379,7 @@ impl<W: Real> Core<W> {
         if from_a {
             self.v.anchor_with(true, &self.c_perp, &self.inv_d)
         } else {
-            let (along, sin_b, _) = self.v.tangent_at(false).ok_or(reject::ANTIPODAL)?;
-            let inv_d = sin_b / &self.v.det.abs();
+            let (along, inv_d) = self.v.own_end(false)?;
             self.v.anchor_with(false, &along, &inv_d)
         }
     }
@@ -491,9 +497,9 @@ impl<W: Real> Anchor<W> {
     }
 }
 
-/// The scalars of the map rounded to `T` (Ω, 1/Ω, Ω/2, d), shared by the
-/// constructor and the one-shot sample; `Unrepresentable` if `T` cannot
-/// hold them.
+/// The scalars of the map rounded to `T` (Ω, 1/Ω, Ω/2, d), for the
+/// constructor; `Unrepresentable` if `T` cannot hold them. (The one-shot
+/// sample, inside [`OneEndBounds`], needs only Ω's test: [`omega_in`].)
 pub(super) struct Scalars<T> {
     pub omega: T,
     pub inv_omega: T,
@@ -503,9 +509,10 @@ pub(super) struct Scalars<T> {
 
 impl<T: Real> Scalars<T> {
     #[inline(always)]
-    pub fn of(tri: &Validated<T::Wide>, d: &T::Wide) -> Result<Self, WarpError> {
+    pub fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
+        let tri = &core.v;
         let (omega, inv_omega) = omega_in::<T>(&tri.omega)?;
-        let d = T::narrow(d);
+        let d = T::narrow(&core.d);
         if !positive(&d) {
             return Err(reject::OUT_OF_RANGE);
         }
