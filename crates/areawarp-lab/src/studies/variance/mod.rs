@@ -18,7 +18,8 @@
 //! | the projected polygon (Arvo 2001, §1.4) | `cos θ / Π` | `L Π`: constant, a zero-variance estimator |
 //! | cosine sampling (the MIS partner, alone) | `cos θ / π` | `π L · [hit]` |
 //!
-//! each alone and combined by multiple importance sampling ([`Mis`]) with
+//! each alone and combined by multiple importance sampling
+//! ([`Mis`](areawarp::estimate::Mis)) with
 //! cosine (BRDF) sampling: `n` light samples plus `n` cosine samples, as in
 //! the paper's Fig. 6 ("each light sample with an additional BRDF sample"),
 //! so an MIS estimate at `n` spp traces `2n` rays. The balance heuristic is
@@ -39,7 +40,8 @@
 //! is `√( mean_{r,k} ((Ê_{r,k} − E_r)/E_r)² )` over all receivers and runs
 //! (every receiver weighs the same; near-light receivers are many). The
 //! CSV also has the image-style `√(Σ (Ê − E)²) / √(Σ E²)`. The runs are
-//! independent jobs of [`run_jobs`] (one per receiver and run, its own seed)
+//! independent jobs of [`run_jobs`](crate::jobs::run_jobs) (one per
+//! receiver and run, its own seed)
 //! reduced in job order: bit-identical results for any thread count.
 //!
 //! # Samples at equal error
