@@ -125,7 +125,7 @@ impl<T: Real> SphericalTriangle<T> {
         let Some((input, (d, pdf))) = hot else {
             // The constructor decides (see `sample_core`).
             return cold(|| {
-                let t = Self::from_points(p0.clone(), p1.clone(), p2.clone(), observer.clone())?;
+                let t = Self::from_points_with(p0, p1, p2, observer, true)?;
                 Ok(t.sample_light([u.clone(), v.clone()]))
             });
         };
