@@ -275,18 +275,14 @@ impl<W: Real> Validated<W> {
     /// The anchor at V = A (`from_a`) or C alone: the tangent at V and
     /// nothing of the other end (what one sample needs). The same values as
     /// [`Core::from_validated`] and [`Core::anchor`] compute for that end.
-    /// The flag is `true` when the triangle is inside `bounds`
-    /// ([`OneEndBounds`]): there `d = |det|/sin b` and every constant of
-    /// the anchor are inside `T`'s range (the constructor's tests of them
-    /// pass, and the sample need not repeat them:
-    /// [`Anchor::narrow_in_bounds`]); outside, only the constructor's
+    /// `Some` only when the triangle is inside `bounds` ([`OneEndBounds`]):
+    /// there `d = |det|/sin b` and every constant of the anchor are inside
+    /// `T`'s range (the constructor's tests of them pass, and the sample
+    /// need not repeat them: [`Anchor::narrow_in_bounds`]). `None` outside
+    /// (or where the anchor cannot be formed): there only the constructor's
     /// tests of both ends decide.
     #[inline(always)]
-    pub fn anchor_alone(
-        &self,
-        from_a: bool,
-        bounds: &OneEndBounds<W>,
-    ) -> Result<(Anchor<W>, bool), WarpError> {
+    pub fn anchor_alone(&self, from_a: bool, bounds: &OneEndBounds<W>) -> Option<Anchor<W>> {
         if from_a {
             self.anchor_alone_at::<true>(bounds)
         } else {
@@ -298,16 +294,14 @@ impl<W: Real> Validated<W> {
     /// end's inputs without a branch was slower (the one-shot sample
     /// 113 → 125 ns in `f32`; `docs/spherical-triangle-one-shot.md`).
     #[inline(always)]
-    fn anchor_alone_at<const FROM_A: bool>(
-        &self,
-        bounds: &OneEndBounds<W>,
-    ) -> Result<(Anchor<W>, bool), WarpError> {
-        let (along, inv_d) = self.own_end(FROM_A)?;
+    fn anchor_alone_at<const FROM_A: bool>(&self, bounds: &OneEndBounds<W>) -> Option<Anchor<W>> {
+        let (along, inv_d) = self.own_end(FROM_A).ok()?;
         // By comparisons: a NaN fails them.
         let inside = inv_d <= bounds.max_inv_d
             && self.at_b[0].0 >= bounds.min_chord2
             && self.at_b[1].0 >= bounds.min_chord2;
-        Ok((self.anchor_with(FROM_A, &along, &inv_d)?, inside))
+        let anchor = self.anchor_with(FROM_A, &along, &inv_d).ok()?;
+        inside.then_some(anchor)
     }
 
     /// V's own tangent on the arc AC (V = A for `from_a`, else C) and
@@ -510,8 +504,7 @@ pub(super) struct Scalars<T> {
 impl<T: Real> Scalars<T> {
     #[inline(always)]
     pub fn of(core: &Core<T::Wide>) -> Result<Self, WarpError> {
-        let tri = &core.v;
-        let (omega, inv_omega) = omega_in::<T>(&tri.omega)?;
+        let (omega, inv_omega) = omega_in::<T>(&core.v.omega)?;
         let d = T::narrow(&core.d);
         if !positive(&d) {
             return Err(reject::OUT_OF_RANGE);
@@ -519,7 +512,7 @@ impl<T: Real> Scalars<T> {
         Ok(Scalars {
             omega,
             inv_omega,
-            half_omega: T::narrow(&tri.half_omega),
+            half_omega: T::narrow(&core.v.half_omega),
             d,
         })
     }

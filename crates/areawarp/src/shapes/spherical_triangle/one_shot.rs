@@ -150,10 +150,7 @@ impl<T: Real> SphericalTriangle<T> {
     #[inline(always)]
     fn sample_core(tri: &Validated<T::Wide>, u: &T, v: &T) -> Option<(Vec3<T>, T)> {
         let from_a = robust::uses_anchor_a(&clamp_unit(u));
-        let (anchor, inside) = tri.anchor_alone(from_a, &OneEndBounds::of::<T>()).ok()?;
-        if !inside {
-            return None;
-        }
+        let anchor = tri.anchor_alone(from_a, &OneEndBounds::of::<T>())?;
         // Inside the bounds, `d` and the anchor's constants are in `T`'s
         // range: of the constructor's range tests (`Scalars::of`,
         // `Anchor::narrow`) only Ω's are needed. The anchor's, redundant
