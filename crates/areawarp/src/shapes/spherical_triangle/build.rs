@@ -530,6 +530,22 @@ pub(super) fn omega_in<T: Real>(wide: &T::Wide) -> Result<(T, T), WarpError> {
     Ok((omega, inv_omega))
 }
 
+/// Ω (`wide`, computed in `T::Wide`) rounded to `T`, with the decision of
+/// [`omega_in`] but without forming 1/Ω where two comparisons settle it:
+/// `8/max ≤ Ω ≤ 16` (`max` the largest value of `T`; every Ω is at most
+/// 2π) rounds to a positive, finite value of `T`, and
+/// `1/Ω ≤ (max/8)(1 + u)` to a finite one, so [`omega_in`] would accept it
+/// with these bits. What the one-shot solid angle needs (its density is
+/// the caller's division).
+#[inline(always)]
+pub(super) fn omega_alone_in<T: Real>(wide: &T::Wide) -> Result<T, WarpError> {
+    let ordinary = <T::Wide as Real>::from_i64(8) / &T::max_value().widen();
+    if *wide >= ordinary && *wide <= <T::Wide as Real>::from_i64(16) {
+        return Ok(T::narrow(wide));
+    }
+    Ok(omega_in::<T>(wide)?.0)
+}
+
 /// The validated core of the triangle with the vertex directions `a`, `b`,
 /// `c` given in `T` ([`validated_of`]).
 #[inline(always)]
@@ -564,5 +580,5 @@ pub(super) fn solid_angle_of<T: Real>(
     b: &Vec3<T>,
     c: &Vec3<T>,
 ) -> Result<T, WarpError> {
-    Ok(omega_in::<T>(&validated_of(a, b, c)?.omega)?.0)
+    omega_alone_in::<T>(&validated_of(a, b, c)?.omega)
 }

@@ -357,6 +357,34 @@ fn pdf_is_the_reciprocal_solid_angle() {
     assert!((octant().solid_angle() - core::f64::consts::FRAC_PI_2).abs() <= 2e-16);
 }
 
+/// The one-shot solid angle's comparison (`omega_alone_in`) decides as the
+/// constructor's test with 1/Ω (`omega_in`), with the same bits, on both
+/// sides of its threshold `8/max` and at the ends of the range.
+#[test]
+fn omega_alone_decides_as_omega_in() {
+    fn check<T: Real + core::fmt::Debug>(values: &[T::Wide]) {
+        for w in values {
+            let alone = build::omega_alone_in::<T>(w);
+            let with_inverse = build::omega_in::<T>(w).map(|(omega, _)| omega);
+            assert_eq!(alone, with_inverse, "{w:?}");
+        }
+    }
+    let max32 = f64::from(f32::MAX);
+    let mut wide = vec![
+        0.0,
+        -1.0,
+        f64::NAN,
+        f64::INFINITY,
+        4.0 * core::f64::consts::PI,
+    ];
+    for k in [1.0, 2.0, 4.0, 7.999, 8.0, 8.001, 16.0] {
+        wide.extend([k / max32, k / f64::MAX, k * f64::from(f32::MIN_POSITIVE)]);
+    }
+    wide.extend([f64::MIN_POSITIVE, f64::from_bits(1), 1e-300, 1e-40]);
+    check::<f32>(&wide);
+    check::<f64>(&wide);
+}
+
 #[cfg(feature = "mpfr")]
 mod mpfr;
 
