@@ -116,6 +116,12 @@ struct Frame<T> {
     zplus: Vec3<T>,
 }
 
+/// `[d·ẑ₊, d·x̂, d·ŷ]` from the inputs' products, where [`Frame::direct`]
+/// formed them (`None`: taken from the unit vectors). Returned beside the
+/// frame rather than in it: as a field of [`Frame`] the one-shot solid
+/// angle was 4–6 % slower (the compiler's layout, not examined further).
+type Offsets<T> = Option<[T; 3]>;
+
 /// An edge shorter than `1/max` (subnormal): its reciprocal overflows, and
 /// no such rectangle has a density in area that the type can hold
 /// (`docs/spherical-rectangle.md`, "Subnormal edges"): refused for that
@@ -142,9 +148,31 @@ impl<T: Real> Frame<T> {
     /// division (the constructor's longest chain of dependent operations);
     /// the test is taken in squares, `(e_x·e_y)²/|e_x|² ≤ tol² |e_y|²`, with
     /// the projection's own quotient (no root of `|e_y|²`; the left side is
-    /// at most `|e_y|²`, so neither side overflows).
+    /// at most `|e_y|²`, so neither side overflows). `ℓy² = |e_y⊥|²` is
+    /// `|e_y|² − k e_x·e_y` (equal in exact arithmetic, without
+    /// cancellation: `k e_x·e_y ≤ tol²|e_y|²`), which does not wait for
+    /// `e_y⊥`.
+    ///
+    /// With `products` (data given in a narrower precision than `T`), the
+    /// frame also returns the observer's offsets `[d·ẑ₊, d·x̂, d·ŷ]` (`d =
+    /// s − o`, `ẑ₊ = x̂ × ŷ`) formed from the inputs' products, `d·(e_x ×
+    /// e_y)/(ℓx ℓy)`, `(d·e_x)/ℓx` and `(d·e_y − k d·e_x)/ℓy`: none of them
+    /// waits for the unit vectors, so the local coordinates are ready
+    /// sooner (`docs/spherical-rectangle.md`, "The frame from the inputs'
+    /// products"). They round differently from the unit vectors' dot
+    /// products that the inverses take (`2^-53|d|` apart), which is far
+    /// below data given in `f32`; for data in `T`'s own precision the
+    /// offsets are the unit vectors' (`None`): there the difference
+    /// showed in the round trip of an elongated or nearly grazed
+    /// rectangle.
     #[inline(always)]
-    fn direct(ex: &Vec3<T>, ey: &Vec3<T>, tol: &T) -> Option<Result<Self, WarpError>> {
+    fn direct(
+        ex: &Vec3<T>,
+        ey: &Vec3<T>,
+        d: &Vec3<T>,
+        tol: &T,
+        products: bool,
+    ) -> Option<Result<(Self, Offsets<T>), WarpError>> {
         let lx2 = ex.dot(ex);
         let ey2 = ey.dot(ey);
         if !plain_root_is_safe(&lx2) || !plain_root_is_safe(&ey2) {
@@ -152,13 +180,16 @@ impl<T: Real> Frame<T> {
         }
         let ee = ex.dot(ey);
         let k = ee.clone() / &lx2;
+        let kee = k.clone() * &ee;
         // tol²|e_y|² ≥ tol² u⁴ is normal.
-        if k.clone() * &ee > tol.square() * &ey2 {
+        if kee > tol.square() * &ey2 {
             return Some(Err(not_perpendicular()));
         }
         let lx_world = lx2.sqrt();
         let ey_perp = ey.sub(&ex.scale(&k));
-        let ly2 = ey_perp.dot(&ey_perp);
+        // |e_y⊥|² = |e_y|² − (e_x·e_y)²/|e_x|², no cancellation: the edges
+        // are perpendicular to within `tol`.
+        let ly2 = ey2 - &kee;
         if !plain_root_is_safe(&ly2) {
             return None;
         }
@@ -167,16 +198,27 @@ impl<T: Real> Frame<T> {
         let inv_ly = T::one() / &ly_world;
         let xhat = ex.scale(&inv_lx);
         let yhat = ey_perp.scale(&inv_ly);
-        Some(Ok(Frame {
-            zplus: xhat.cross(&yhat),
-            xhat,
-            yhat,
-            inv_lx,
-            inv_ly,
-            lx_world,
-            ey_perp,
-            ly_world,
-        }))
+        let offsets = products.then(|| {
+            let dx = d.dot(ex);
+            [
+                d.dot(&ex.cross(ey)) * &inv_lx * &inv_ly,
+                dx.clone() * &inv_lx,
+                (d.dot(ey) - &(k.clone() * &dx)) * &inv_ly,
+            ]
+        });
+        Some(Ok((
+            Frame {
+                zplus: xhat.cross(&yhat),
+                xhat,
+                yhat,
+                inv_lx,
+                inv_ly,
+                lx_world,
+                ey_perp,
+                ly_world,
+            },
+            offsets,
+        )))
     }
 
     /// The frame of the finite edges `ex`, `ey` of any magnitude (lengths
@@ -246,21 +288,25 @@ impl<T: Real> Geometry<T> {
             (&o, "observer o"),
         ])?;
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
-        let Frame {
-            lx_world,
-            inv_lx,
-            inv_ly,
-            xhat,
-            ey_perp,
-            ly_world,
-            yhat,
-            zplus,
-        } = match Frame::direct(&ex, &ey, &tol) {
-            Some(frame) => frame?,
-            None => Frame::scaled(&ex, &ey, &tol)?,
-        };
         let d = s.sub(&o);
-        let zc = d.dot(&zplus);
+        let products = bits < T::precision();
+        let (
+            Frame {
+                lx_world,
+                inv_lx,
+                inv_ly,
+                xhat,
+                ey_perp,
+                ly_world,
+                yhat,
+                zplus,
+            },
+            offsets,
+        ) = match Frame::direct(&ex, &ey, &d, &tol, products) {
+            Some(frame) => frame?,
+            None => (Frame::scaled(&ex, &ey, &tol)?, None),
+        };
+        let [zc, x0w, y0w] = offsets.unwrap_or_else(|| [d.dot(&zplus), d.dot(&xhat), d.dot(&yhat)]);
         if zc.is_nan() {
             return Err(non_finite("observer offset"));
         }
@@ -272,8 +318,6 @@ impl<T: Real> Geometry<T> {
         } else {
             (zplus, -zc)
         };
-        let x0w = d.dot(&xhat);
-        let y0w = d.dot(&yhat);
         // Scale the local lengths by a power of two (exactly) so that the
         // largest is in [1, 2): squares and products of four lengths then
         // neither overflow nor underflow in f32.
