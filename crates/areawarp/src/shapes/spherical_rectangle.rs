@@ -593,7 +593,16 @@ fn wide_geometry<T: Real>(
     o: &Vec3<T>,
     bits: u32,
 ) -> Result<Geometry<T>, WarpError> {
-    let wide = Geometry::new(widen3(s), widen3(ex), widen3(ey), widen3(o), bits)?;
+    // Data of a narrower type than the wide one (`f32` in `f64`).
+    let narrow_data = T::precision() < <T::Wide as Real>::precision();
+    let wide = Geometry::new(
+        widen3(s),
+        widen3(ex),
+        widen3(ey),
+        widen3(o),
+        bits,
+        narrow_data,
+    )?;
     Ok(wide.narrow::<T>())
 }
 

@@ -153,7 +153,7 @@ impl<T: Real> Frame<T> {
     /// cancellation: `k e_x·e_y ≤ tol²|e_y|²`), which does not wait for
     /// `e_y⊥`.
     ///
-    /// With `products` (data given in a narrower precision than `T`), the
+    /// With `products` (data that are values of a narrower type than `T`), the
     /// frame also returns the observer's offsets `[d·ẑ₊, d·x̂, d·ŷ]` (`d =
     /// s − o`, `ẑ₊ = x̂ × ŷ`) formed from the inputs' products, `d·(e_x ×
     /// e_y)/(ℓx ℓy)`, `(d·e_x)/ℓx` and `(d·e_y − k d·e_x)/ℓy`: none of them
@@ -272,7 +272,10 @@ impl<T: Real> Frame<T> {
 
 impl<T: Real> Geometry<T> {
     /// Validates the input and builds the frame; `bits` is the precision the
-    /// data were given in (it sets the perpendicularity tolerance).
+    /// data were given in (it sets the perpendicularity tolerance);
+    /// `narrow_data` says that the data are values of a narrower type than
+    /// `T` (an `f32` rectangle computed in `f64`), whose offsets may come
+    /// from the inputs' products ([`Frame::direct`]).
     #[inline(always)]
     pub fn new(
         s: Vec3<T>,
@@ -280,6 +283,7 @@ impl<T: Real> Geometry<T> {
         ey: Vec3<T>,
         o: Vec3<T>,
         bits: u32,
+        narrow_data: bool,
     ) -> Result<Self, WarpError> {
         check_finite([
             (&s, "corner s"),
@@ -289,7 +293,6 @@ impl<T: Real> Geometry<T> {
         ])?;
         let tol = T::from_i64(PERPENDICULAR_ULPS) * &T::exp2i(-(bits.min(T::precision()) as i32));
         let d = s.sub(&o);
-        let products = bits < T::precision();
         let (
             Frame {
                 lx_world,
@@ -302,7 +305,7 @@ impl<T: Real> Geometry<T> {
                 zplus,
             },
             offsets,
-        ) = match Frame::direct(&ex, &ey, &d, &tol, products) {
+        ) = match Frame::direct(&ex, &ey, &d, &tol, narrow_data) {
             Some(frame) => frame?,
             None => (Frame::scaled(&ex, &ey, &tol)?, None),
         };

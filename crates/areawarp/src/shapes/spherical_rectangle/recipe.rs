@@ -96,7 +96,7 @@ impl<T: Real> SphericalRectangleRecipe<T> {
         bits: u32,
     ) -> Result<Self, WarpError> {
         let bits = bits.min(T::precision());
-        let geometry = Geometry::new(s, ex, ey.clone(), o, bits)?;
+        let geometry = Geometry::new(s, ex, ey.clone(), o, bits, false)?;
         let x1 = geometry.x0.clone() + &geometry.lx;
         let y1 = geometry.y0.clone() + &geometry.ly;
         let mut r = SphericalRectangleRecipe {
