@@ -344,7 +344,8 @@ impl Advisable for SphericalRectangle<f64> {
     /// 0)`, observer at the origin (scaled by a power of two). The
     /// constructor computes them in `f64` from `d = s − o` (each coordinate
     /// rounded relative to itself, exact for nearby s and o) by dot products
-    /// with the frame: `x₀`, `y₀`, `h` carry absolute errors of about one
+    /// with the frame (for an `f32` shape, with the edges, divided by their
+    /// lengths: errors of the same size): `x₀`, `y₀`, `h` carry absolute errors of about one
     /// `f64` ulp of `|d|`; an `f32` shape rounds them, and the lengths, to
     /// `f32` (one `f32` ulp of each). Perturbing the world coordinates of `s`
     /// and `o` instead would count the rounding of `|s|` (a corner 50× as
