@@ -153,7 +153,9 @@ impl<T: Real> Frame<T> {
     /// cancellation: `k e_x·e_y ≤ tol²|e_y|²`), which does not wait for
     /// `e_y⊥`.
     ///
-    /// With `products` (data that are values of a narrower type than `T`), the
+    /// With `products` (data that are values of a narrower type than `T`),
+    /// `ℓy` is `|e_x × e_y|/ℓx` with `|e_x × e_y|² = |e_x|²|e_y|² −
+    /// (e_x·e_y)²`, whose root does not wait for the division `k`, and the
     /// frame also returns the observer's offsets `[d·ẑ₊, d·x̂, d·ŷ]` (`d =
     /// s − o`, `ẑ₊ = x̂ × ŷ`) formed from the inputs' products, `d·(e_x ×
     /// e_y)/(ℓx ℓy)`, `(d·e_x)/ℓx` and `(d·e_y − k d·e_x)/ℓy`: none of them
@@ -187,15 +189,25 @@ impl<T: Real> Frame<T> {
         }
         let lx_world = lx2.sqrt();
         let ey_perp = ey.sub(&ex.scale(&k));
-        // |e_y⊥|² = |e_y|² − (e_x·e_y)²/|e_x|², no cancellation: the edges
-        // are perpendicular to within `tol`.
-        let ly2 = ey2 - &kee;
-        if !plain_root_is_safe(&ly2) {
-            return None;
-        }
-        let ly_world = ly2.sqrt();
         let inv_lx = T::one() / &lx_world;
-        let inv_ly = T::one() / &ly_world;
+        let (inv_ly, ly_world) = if products {
+            // |e_x × e_y|² = |e_x|²|e_y|² − (e_x·e_y)² (Lagrange), and
+            // ℓy = |e_y⊥| = |e_x × e_y|/ℓx: no division waits for k.
+            let n2 = lx2.clone() * &ey2 - &ee.square();
+            if !plain_root_is_safe(&n2) {
+                return None;
+            }
+            let root_n2 = n2.sqrt();
+            (lx_world.clone() / &root_n2, root_n2 * &inv_lx)
+        } else {
+            // |e_y⊥|² = |e_y|² − (e_x·e_y)²/|e_x|².
+            let ly2 = ey2 - &kee;
+            if !plain_root_is_safe(&ly2) {
+                return None;
+            }
+            let ly_world = ly2.sqrt();
+            (T::one() / &ly_world, ly_world)
+        };
         let xhat = ex.scale(&inv_lx);
         let yhat = ey_perp.scale(&inv_ly);
         let offsets = products.then(|| {
