@@ -210,6 +210,11 @@ impl<T: Real> Frame<T> {
         };
         let xhat = ex.scale(&inv_lx);
         let yhat = ey_perp.scale(&inv_ly);
+        // `h` as `d·(e_x × e_y)·(1/ℓx)·(1/ℓy)`, from the reciprocals at
+        // hand: with `1/|e_x × e_y|` formed once instead (and `1/ℓy =
+        // ℓx/|e_x × e_y|` as its product) the same accuracy figures, but the
+        // `f32` one-shot solid angle measured 5 % slower (1.10 → 1.16 of
+        // the textbook formula, 2026-11-30).
         let offsets = products.then(|| {
             let dx = d.dot(ex);
             [
